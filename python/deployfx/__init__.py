@@ -1,9 +1,12 @@
 """deployfx: deployment and locking dynamics of flexible laminated-composite appendages.
 
-Laminated materials: :class:`Isotropic`, :class:`Orthotropic`, :class:`Ply`, :class:`Laminate`.
-SI units throughout.
+The structural core: laminated materials (:class:`Isotropic`, :class:`Orthotropic`,
+:class:`Ply`, :class:`Laminate`) and the MITC4 laminated shell element on a rectangular
+:class:`Plate` or an arbitrary :class:`ShellModel` mesh. SI units throughout.
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
+from .plate import Plate, ShellModel
+from . import paper2016
 
-__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate"]
+__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "paper2016"]
 __version__ = "0.1.0"

@@ -1,0 +1,57 @@
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "deployfx/fem/constrained_solve.hpp"
+#include "deployfx/fem/modal.hpp"
+#include "deployfx/fem/plate.hpp"
+#include "deployfx/fem/shell_model.hpp"
+
+namespace py = pybind11;
+using namespace deployfx::fem;
+using deployfx::material::Laminate;
+
+void define_fem(py::module_& m) {
+  py::class_<ModalResult>(m, "ModalResult")
+      .def_readonly("eigenvalues", &ModalResult::eigenvalues)
+      .def_readonly("modes", &ModalResult::modes);
+
+  py::class_<ShellModel>(m, "ShellModel")
+      .def(py::init<NodeMatrix, QuadMatrix, const Laminate&, const Eigen::Vector3d&>(),
+           py::arg("nodes"), py::arg("quads"), py::arg("laminate"), py::arg("ref_axis"))
+      .def_property_readonly("num_nodes", &ShellModel::num_nodes)
+      .def_property_readonly("num_dofs", &ShellModel::num_dofs)
+      .def_property_readonly("nodes", &ShellModel::nodes)
+      .def_property_readonly("quads", &ShellModel::quads)
+      .def("stiffness", &ShellModel::stiffness)
+      .def("mass", &ShellModel::mass)
+      .def("total_mass", &ShellModel::total_mass)
+      .def("pressure_load", &ShellModel::pressure_load, py::arg("pressure"))
+      .def("geometric_stiffness", &ShellModel::geometric_stiffness, py::arg("N"))
+      .def("geometric_stiffness_from", &ShellModel::geometric_stiffness_from, py::arg("u"))
+      .def("strain_energy", &ShellModel::strain_energy, py::arg("u"))
+      .def("internal_force", [](const ShellModel& s, const Eigen::VectorXd& u) {
+        Eigen::VectorXd f;
+        SparseMatrix K;
+        {
+          py::gil_scoped_release release;
+          s.internal_force(u, &f, &K);
+        }
+        return py::make_tuple(f, K);
+      }, py::arg("u"));
+
+  py::class_<RectangularPlate>(m, "RectangularPlate")
+      .def(py::init<double, double, const Laminate&, int, int>(), py::arg("length"),
+           py::arg("width"), py::arg("laminate"), py::arg("nx"), py::arg("ny"))
+      .def_property_readonly("model", &RectangularPlate::model, py::return_value_policy::reference_internal)
+      .def("fixed_dofs", &RectangularPlate::fixed_dofs, py::arg("boundary"))
+      .def("static_deflection", &RectangularPlate::static_deflection, py::arg("pressure"),
+           py::arg("boundary"), py::call_guard<py::gil_scoped_release>())
+      .def("modes", &RectangularPlate::modes, py::arg("n"), py::arg("boundary"),
+           py::call_guard<py::gil_scoped_release>());
+
+  m.def("constrained_modes", &constrained_modes, py::arg("K"), py::arg("M"), py::arg("n"),
+        py::arg("fixed"), py::call_guard<py::gil_scoped_release>());
+  m.def("static_solve", &static_solve, py::arg("K"), py::arg("f"), py::arg("fixed"),
+        py::call_guard<py::gil_scoped_release>());
+}

@@ -1,0 +1,297 @@
+#include "deployfx/fem/shell_element.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+namespace deployfx::fem {
+namespace {
+
+// Local dof indices within a node's six.
+constexpr int U = 0, V = 1, W = 2, TX = 3, TY = 4, TZ = 5;
+constexpr double kXi[4] = {-1, 1, 1, -1};
+constexpr double kEta[4] = {-1, -1, 1, 1};
+
+struct Shape {
+  Eigen::Vector4d N, dN_dxi, dN_deta;
+};
+
+Shape shape(double xi, double eta) {
+  Shape s;
+  for (int i = 0; i < 4; ++i) {
+    s.N(i) = 0.25 * (1 + kXi[i] * xi) * (1 + kEta[i] * eta);
+    s.dN_dxi(i) = 0.25 * kXi[i] * (1 + kEta[i] * eta);
+    s.dN_deta(i) = 0.25 * kEta[i] * (1 + kXi[i] * xi);
+  }
+  return s;
+}
+
+// Jacobian J = [x,xi y,xi; x,eta y,eta] from local node coordinates xy (4 x 2).
+Eigen::Matrix2d jacobian(const Shape& s, const Eigen::Matrix<double, 4, 2>& xy) {
+  Eigen::Matrix2d J;
+  J.row(0) = s.dN_dxi.transpose() * xy;
+  J.row(1) = s.dN_deta.transpose() * xy;
+  return J;
+}
+
+// Covariant transverse shear e_az = w,a + beta_x x,a + beta_y y,a for a = xi or eta, as a
+// row operator on the element dofs at (xi, eta) (Bathe & Dvorkin 1985, Eq. 8).
+RowOp covariant_shear(double xi, double eta, bool along_xi, const Eigen::Matrix<double, 4, 2>& xy) {
+  const Shape s = shape(xi, eta);
+  const Eigen::Vector4d& dN = along_xi ? s.dN_dxi : s.dN_deta;
+  const Eigen::Vector2d g = dN.transpose() * xy;  // (x,a  y,a)
+  RowOp e = RowOp::Zero();
+  for (int i = 0; i < 4; ++i) {
+    e(6 * i + W) = dN(i);
+    e(6 * i + TY) = s.N(i) * g(0);   // beta_x = theta_y
+    e(6 * i + TX) = -s.N(i) * g(1);  // beta_y = -theta_x
+  }
+  return e;
+}
+
+// N_s of Eq. 21: [N_x I3, N_xy I3; N_xy I3, N_y I3] acting on Psi = (u,x v,x w,x u,y v,y w,y).
+Eigen::Matrix<double, 6, 6> resultant_matrix(const Eigen::Vector3d& N) {
+  Eigen::Matrix<double, 6, 6> Ns = Eigen::Matrix<double, 6, 6>::Zero();
+  Ns.topLeftCorner<3, 3>().diagonal().setConstant(N(0));
+  Ns.bottomRightCorner<3, 3>().diagonal().setConstant(N(1));
+  Ns.topRightCorner<3, 3>().diagonal().setConstant(N(2));
+  Ns.bottomLeftCorner<3, 3>().diagonal().setConstant(N(2));
+  return Ns;
+}
+
+}  // namespace
+
+ShellElement::ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::Vector3d& ref_axis_W,
+                           const material::Laminate& laminate)
+    : A_(laminate.A()), B_(laminate.B()), D_(laminate.D()), As_(laminate.As()),
+      I0_(laminate.I0()), I1_(laminate.I1()), I2_(laminate.I2()) {
+  if (!X_W.allFinite()) throw std::invalid_argument("ShellElement: node coordinates are not finite");
+  const Eigen::Vector3d c = X_W.colwise().mean().transpose();
+  const Eigen::Vector3d d13 = (X_W.row(2) - X_W.row(0)).transpose();
+  const Eigen::Vector3d d24 = (X_W.row(3) - X_W.row(1)).transpose();
+  const double size = std::max(d13.norm(), d24.norm());
+  Eigen::Vector3d n = d13.cross(d24);
+  if (!(n.norm() > 1e-12 * size * size))
+    throw std::invalid_argument("ShellElement: degenerate quadrilateral (zero area)");
+  n.normalize();
+  // Flatness: every node within 1e-6 of the element size of the mean plane.
+  for (int i = 0; i < 4; ++i) {
+    if (std::abs((X_W.row(i).transpose() - c).dot(n)) > 1e-6 * size)
+      throw std::invalid_argument("ShellElement: warped quadrilateral; nodes must be coplanar");
+  }
+  Eigen::Vector3d e1 = ref_axis_W - ref_axis_W.dot(n) * n;
+  if (!(e1.norm() > 1e-6 * ref_axis_W.norm()))
+    throw std::invalid_argument("ShellElement: ref_axis is normal to the element; choose another");
+  e1.normalize();
+  R_WE_.col(0) = e1;
+  R_WE_.col(1) = n.cross(e1);
+  R_WE_.col(2) = n;
+
+  Eigen::Matrix<double, 4, 2> xy;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d p = R_WE_.transpose() * (X_W.row(i).transpose() - c);
+    xy.row(i) << p(0), p(1);
+  }
+  drill_modulus_ = kDrillingPenalty * A_(2, 2);
+
+  // MITC4 tying points: e_xi,z at B(0,-1) and D(0,1); e_eta,z at A(-1,0) and C(1,0).
+  const RowOp eB = covariant_shear(0, -1, true, xy), eD = covariant_shear(0, 1, true, xy);
+  const RowOp eA = covariant_shear(-1, 0, false, xy), eC = covariant_shear(1, 0, false, xy);
+
+  const double g = 1.0 / std::sqrt(3.0);
+  const double gx[4] = {-g, g, g, -g}, gy[4] = {-g, -g, g, g};
+  area_ = 0;
+  for (int q = 0; q < 4; ++q) {
+    const Shape s = shape(gx[q], gy[q]);
+    const Eigen::Matrix2d J = jacobian(s, xy);
+    const double detJ = J.determinant();
+    if (!(detJ > 0))
+      throw std::invalid_argument(
+          "ShellElement: non-positive Jacobian; the quadrilateral must be convex");
+    const Eigen::Matrix2d Jinv = J.inverse();
+    GaussPoint& p = gp_[q];
+    p.weight = detJ;  // Gauss weights are 1 for the 2x2 rule
+    p.X_W = X_W.transpose() * s.N;  // bilinear geometry
+    area_ += detJ;
+    p.Bm.setZero();
+    p.Bb.setZero();
+    p.Bd.setZero();
+    p.G.setZero();
+    p.Nu.setZero();
+    p.Nr.setZero();
+    for (int i = 0; i < 4; ++i) {
+      const Eigen::Vector2d dN = Jinv * Eigen::Vector2d(s.dN_dxi(i), s.dN_deta(i));  // (N,x N,y)
+      const int o = 6 * i;
+      p.Bm(0, o + U) = dN(0);
+      p.Bm(1, o + V) = dN(1);
+      p.Bm(2, o + U) = dN(1);
+      p.Bm(2, o + V) = dN(0);
+      // kappa_x = beta_x,x; kappa_y = beta_y,y; kappa_xy = beta_x,y + beta_y,x
+      p.Bb(0, o + TY) = dN(0);
+      p.Bb(1, o + TX) = -dN(1);
+      p.Bb(2, o + TY) = dN(1);
+      p.Bb(2, o + TX) = -dN(0);
+      p.Bd(o + TZ) = s.N(i);
+      p.Bd(o + V) = -0.5 * dN(0);
+      p.Bd(o + U) = 0.5 * dN(1);
+      for (int a = 0; a < 3; ++a) {
+        p.G(a, o + a) = dN(0);
+        p.G(3 + a, o + a) = dN(1);
+        p.Nu(a, o + a) = s.N(i);
+      }
+      p.Nr(0, o + TY) = s.N(i);
+      p.Nr(1, o + TX) = -s.N(i);
+      p.Nr(2, o + TZ) = s.N(i);
+    }
+    // Assumed covariant shear (Bathe & Dvorkin 1985, Eq. 11), then Cartesian: e = J gamma.
+    Eigen::Matrix<double, 2, kElementDofs> e;
+    e.row(0) = 0.5 * (1 - gy[q]) * eB + 0.5 * (1 + gy[q]) * eD;
+    e.row(1) = 0.5 * (1 - gx[q]) * eA + 0.5 * (1 + gx[q]) * eC;
+    p.Bs = Jinv * e;
+  }
+}
+
+ShellElement::Kinematics ShellElement::kinematics(int q) const {
+  const GaussPoint& p = gp_.at(q);
+  Kinematics k;
+  k.X_W = p.X_W;
+  k.n_W = R_WE_.col(2);
+  k.weight = p.weight;
+  Eigen::Matrix<double, 3, kElementDofs> beta = Eigen::Matrix<double, 3, kElementDofs>::Zero();
+  beta.topRows<2>() = p.Nr.topRows<2>();
+  // d_E = T d_W with T = blockdiag(R_WE^T); displacement in world = R_WE (operator_E) T d_W.
+  for (int b = 0; b < 8; ++b) {
+    k.N0.middleCols<3>(3 * b) = R_WE_ * p.Nu.middleCols<3>(3 * b) * R_WE_.transpose();
+    k.N1.middleCols<3>(3 * b) = R_WE_ * beta.middleCols<3>(3 * b) * R_WE_.transpose();
+  }
+  return k;
+}
+
+ElemVec ShellElement::to_element(const ElemVec& d_W) const {
+  ElemVec d_E;
+  for (int b = 0; b < 8; ++b) d_E.segment<3>(3 * b) = R_WE_.transpose() * d_W.segment<3>(3 * b);
+  return d_E;
+}
+
+ElemVec ShellElement::to_world(const ElemVec& f_E) const {
+  ElemVec f_W;
+  for (int b = 0; b < 8; ++b) f_W.segment<3>(3 * b) = R_WE_ * f_E.segment<3>(3 * b);
+  return f_W;
+}
+
+ElemMat ShellElement::to_world(const ElemMat& K_E) const {
+  ElemMat K_W;
+  for (int a = 0; a < 8; ++a)
+    for (int b = 0; b < 8; ++b)
+      K_W.block<3, 3>(3 * a, 3 * b) = R_WE_ * K_E.block<3, 3>(3 * a, 3 * b) * R_WE_.transpose();
+  return K_W;
+}
+
+ElemMat ShellElement::stiffness() const {
+  ElemMat K;
+  internal_force(ElemVec::Zero(), nullptr, &K);
+  return K;
+}
+
+ElemMat ShellElement::mass() const {
+  // Kinetic energy per area: I0 |u0|^2 + 2 I1 (u0 beta_x + v0 beta_y) + I2 (beta_x^2 + beta_y^2)
+  // + J_z theta_z^2. theta_z has no physical inertia; J_z = kDrillingPenalty I0 A_e puts the
+  // drilling modes at omega^2 = A66 / (I0 A_e), the element's in-plane shear-wave frequency, above
+  // every mode the mesh resolves, whatever the thickness (J_z = I2 would bring a spurious drilling
+  // mode down to the bending range of thick plates, omega^2 = 12 kDrillingPenalty A66 / (I0 h^2)).
+  const double Jz = kDrillingPenalty * I0_ * area_;
+  ElemMat M = ElemMat::Zero();
+  for (const GaussPoint& p : gp_) {
+    const auto uv = p.Nu.topRows<2>();
+    const auto beta = p.Nr.topRows<2>();
+    M.noalias() += p.weight * (I0_ * p.Nu.transpose() * p.Nu +
+                               I2_ * beta.transpose() * beta +
+                               Jz * p.Nr.row(2).transpose() * p.Nr.row(2));
+    if (I1_ != 0.0)
+      M.noalias() += p.weight * I1_ * (uv.transpose() * beta + beta.transpose() * uv);
+  }
+  return to_world(M);
+}
+
+ElemVec ShellElement::pressure_load(double pressure) const {
+  ElemVec f = ElemVec::Zero();
+  for (const GaussPoint& p : gp_) f += p.weight * pressure * p.Nu.row(2).transpose();
+  return to_world(f);
+}
+
+ElemMat ShellElement::geometric_stiffness(const Eigen::Vector3d& N) const {
+  // Eq. 21-22: K_s = int G^T N_s G dA, N_s = [N_x I3, N_xy I3; N_xy I3, N_y I3].
+  const Eigen::Matrix<double, 6, 6> Ns = resultant_matrix(N);
+  ElemMat K = ElemMat::Zero();
+  for (const GaussPoint& p : gp_) K.noalias() += p.weight * p.G.transpose() * Ns * p.G;
+  return to_world(K);
+}
+
+ElemMat ShellElement::geometric_stiffness_from(const ElemVec& d_W) const {
+  const ElemVec d = to_element(d_W);
+  ElemMat K = ElemMat::Zero();
+  for (const GaussPoint& p : gp_) {
+    const Eigen::Vector3d N = A_ * (p.Bm * d) + B_ * (p.Bb * d);
+    K.noalias() += p.weight * p.G.transpose() * resultant_matrix(N) * p.G;
+  }
+  return to_world(K);
+}
+
+double ShellElement::strain_energy(const ElemVec& d_W) const {
+  const ElemVec d = to_element(d_W);
+  double U = 0;
+  for (const GaussPoint& p : gp_) {
+    const Eigen::Matrix<double, 6, 1> psi = p.G * d;
+    const Eigen::Vector3d px = psi.head<3>(), py = psi.tail<3>();
+    // Eq. 14: Green membrane strain.
+    const Eigen::Vector3d eps =
+        p.Bm * d + 0.5 * Eigen::Vector3d(px.squaredNorm(), py.squaredNorm(), 2 * px.dot(py));
+    const Eigen::Vector3d kap = p.Bb * d;
+    const Eigen::Vector2d gam = p.Bs * d;
+    const double drill = p.Bd.dot(d.transpose());
+    U += 0.5 * p.weight *
+         (eps.dot(A_ * eps) + 2 * eps.dot(B_ * kap) + kap.dot(D_ * kap) + gam.dot(As_ * gam) +
+          drill_modulus_ * drill * drill);
+  }
+  return U;
+}
+
+void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W) const {
+  const ElemVec d = to_element(d_W);
+  ElemVec f = ElemVec::Zero();
+  ElemMat K = ElemMat::Zero();
+  for (const GaussPoint& p : gp_) {
+    const Eigen::Matrix<double, 6, 1> psi = p.G * d;
+    const Eigen::Vector3d px = psi.head<3>(), py = psi.tail<3>();
+    // Eq. 14 and 20: eps = Bm d + 1/2 H(psi) psi, d eps = (Bm + H G) dd.
+    Eigen::Matrix<double, 3, 6> H = Eigen::Matrix<double, 3, 6>::Zero();
+    H.block<1, 3>(0, 0) = px.transpose();
+    H.block<1, 3>(1, 3) = py.transpose();
+    H.block<1, 3>(2, 0) = py.transpose();
+    H.block<1, 3>(2, 3) = px.transpose();
+    const Eigen::Matrix<double, 3, kElementDofs> Bm_bar = p.Bm + H * p.G;
+    const Eigen::Vector3d eps = p.Bm * d + 0.5 * H * psi;
+    const Eigen::Vector3d kap = p.Bb * d;
+    const Eigen::Vector3d N = A_ * eps + B_ * kap;
+    const Eigen::Vector3d M = B_ * eps + D_ * kap;
+    const Eigen::Vector2d Q = As_ * (p.Bs * d);
+    const double drill = drill_modulus_ * p.Bd.dot(d.transpose());
+    const double w = p.weight;
+    f.noalias() += w * (Bm_bar.transpose() * N + p.Bb.transpose() * M + p.Bs.transpose() * Q +
+                        p.Bd.transpose() * drill);
+    if (!K_W) continue;
+    // K_L + K_L* (Eq. 19, 23): material tangent on the full strain operator.
+    const Eigen::Matrix<double, 3, kElementDofs> ABm = A_ * Bm_bar + B_ * p.Bb;
+    const Eigen::Matrix<double, 3, kElementDofs> BBm = B_ * Bm_bar + D_ * p.Bb;
+    K.noalias() += w * (Bm_bar.transpose() * ABm + p.Bb.transpose() * BBm +
+                        p.Bs.transpose() * As_ * p.Bs +
+                        drill_modulus_ * p.Bd.transpose() * p.Bd);
+    // K_s (Eq. 22) from the current resultants.
+    if (N.squaredNorm() > 0) K.noalias() += w * p.G.transpose() * resultant_matrix(N) * p.G;
+  }
+  if (f_W) *f_W = to_world(f);
+  if (K_W) *K_W = to_world(K);
+}
+
+}  // namespace deployfx::fem

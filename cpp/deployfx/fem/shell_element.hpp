@@ -1,0 +1,102 @@
+#pragma once
+// Four-node flat laminated shell element, 6 dof per node (u, v, w, theta_x, theta_y, theta_z in
+// world axes), first-order shear deformation theory:
+// - membrane and bending: bilinear Q4 with full 2x2 Gauss integration, A/B/D coupling;
+// - transverse shear: MITC4 assumed covariant strains tied at the edge mid-points, free of shear
+//   locking (Bathe & Dvorkin, Int. J. Numer. Meth. Eng. 21, 1985, 367-383; Eq. 8-11 there);
+// - drilling rotation: Hughes-Brezzi penalty on theta_z - (v,x - u,y)/2 with modulus
+//   kDrillingPenalty * A66 (Hughes & Brezzi, CMAME 72, 1989), so the element can sit in 3D;
+// - geometric nonlinearity: Green membrane strain with the in-plane and transverse gradients of
+//   You et al. (2016) Eq. 14, whose tangent is K_L + K_L* + K_s (Eq. 19-23).
+//
+// Notation: W world frame, E element frame (origin at the node centroid, x along the projected
+// material reference axis, z along the normal). R_WE has E's axes as columns in W.
+// Through the thickness: u(z) = u0 + z beta_x, v(z) = v0 + z beta_y with beta_x = theta_y,
+// beta_y = -theta_x (rotation-vector components about E's axes).
+#include <Eigen/Core>
+#include <array>
+
+#include "deployfx/material/laminate.hpp"
+
+namespace deployfx::fem {
+
+constexpr int kNodeDofs = 6;
+constexpr int kElementDofs = 4 * kNodeDofs;
+using ElemVec = Eigen::Matrix<double, kElementDofs, 1>;
+using ElemMat = Eigen::Matrix<double, kElementDofs, kElementDofs>;
+using RowOp = Eigen::Matrix<double, 1, kElementDofs>;
+
+class ShellElement {
+ public:
+  /// Fraction of A66 used as the drilling penalty modulus (Hughes-Brezzi gamma).
+  static constexpr double kDrillingPenalty = 1e-3;
+
+  /// X_W: node positions (4 x 3, m), counter-clockwise about the intended normal.
+  /// ref_axis_W: the laminate's 0-degree direction, projected onto the element plane.
+  /// Throws std::invalid_argument for a degenerate, warped or non-convex quadrilateral, or a
+  /// reference axis normal to the element.
+  ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::Vector3d& ref_axis_W,
+               const material::Laminate& laminate);
+
+  const Eigen::Matrix3d& R_WE() const { return R_WE_; }
+  double area() const { return area_; }
+  /// Mass moments per area about the mid-plane (kg/m^2, kg/m, kg).
+  double I0() const { return I0_; }
+  double I1() const { return I1_; }
+  double I2() const { return I2_; }
+
+  /// The shell kinematics at one of the four Gauss points, in world axes: the material point at
+  /// height z above the mid-surface sits at X_W + z n_W and moves by (N0 + z N1) d_W.
+  struct Kinematics {
+    Eigen::Vector3d X_W;                         // mid-surface point, m
+    Eigen::Vector3d n_W;                         // unit normal
+    Eigen::Matrix<double, 3, kElementDofs> N0;   // mid-surface displacement operator
+    Eigen::Matrix<double, 3, kElementDofs> N1;   // fibre rotation operator (beta_x, beta_y, 0)
+    double weight;                               // area weight, m^2
+  };
+  Kinematics kinematics(int gauss_point) const;
+
+  /// Linear stiffness K_L (world dofs), Eq. 19.
+  ElemMat stiffness() const;
+  /// Consistent mass with rotary inertia (world dofs).
+  ElemMat mass() const;
+  /// Nodal forces of a uniform pressure p (Pa) along the element normal (world dofs).
+  ElemVec pressure_load(double p) const;
+  /// Geometric stiffness K_s of Eq. 22 for given membrane resultants (N_x, N_y, N_xy) in N/m,
+  /// uniform over the element, in E's axes.
+  ElemMat geometric_stiffness(const Eigen::Vector3d& N_E) const;
+  /// Geometric stiffness with resultants N = A eps_L + B kappa from the linear strains of d_W.
+  ElemMat geometric_stiffness_from(const ElemVec& d_W) const;
+  /// Strain energy of the nonlinear (Eq. 14) strain field for displacements d_W (J).
+  double strain_energy(const ElemVec& d_W) const;
+  /// Internal force f = dU/dd and tangent K_T = K_L + K_L*(d) + K_s(N(d)) (world dofs).
+  void internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W) const;
+
+ private:
+  struct GaussPoint {
+    Eigen::Matrix<double, 3, kElementDofs> Bm;  // membrane strain (eps_x, eps_y, gamma_xy)
+    Eigen::Matrix<double, 3, kElementDofs> Bb;  // curvature (kappa_x, kappa_y, kappa_xy)
+    Eigen::Matrix<double, 2, kElementDofs> Bs;  // MITC4 transverse shear (gamma_xz, gamma_yz)
+    RowOp Bd;                                   // drilling: theta_z - (v,x - u,y) / 2
+    Eigen::Matrix<double, 6, kElementDofs> G;   // Psi = (u,x v,x w,x u,y v,y w,y), Eq. 20
+    Eigen::Matrix<double, 3, kElementDofs> Nu;  // mid-surface displacement (u, v, w)
+    Eigen::Matrix<double, 3, kElementDofs> Nr;  // (beta_x, beta_y, theta_z)
+    double weight;                              // Gauss weight x det J (m^2)
+    Eigen::Vector3d X_W;                        // mid-surface position (m)
+  };
+  /// d_E = T d_W, T = blockdiag(R_WE^T); returns T^T K T.
+  ElemMat to_world(const ElemMat& K_E) const;
+  ElemVec to_element(const ElemVec& d_W) const;
+  ElemVec to_world(const ElemVec& f_E) const;
+
+  // Section constants copied from the laminate (the element owns no reference to it).
+  Eigen::Matrix3d A_, B_, D_;
+  Eigen::Matrix2d As_;
+  double I0_ = 0, I1_ = 0, I2_ = 0;
+  Eigen::Matrix3d R_WE_;
+  double area_ = 0;
+  double drill_modulus_ = 0;  // N/m
+  std::array<GaussPoint, 4> gp_;
+};
+
+}  // namespace deployfx::fem

@@ -1,0 +1,133 @@
+#include "deployfx/fem/shell_model.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace deployfx::fem {
+
+ShellModel::ShellModel(NodeMatrix nodes, QuadMatrix quads, const material::Laminate& laminate,
+                       const Eigen::Vector3d& ref_axis)
+    : nodes_(std::move(nodes)), quads_(std::move(quads)) {
+  if (nodes_.rows() == 0) throw std::invalid_argument("ShellModel.nodes is empty");
+  if (quads_.rows() == 0) throw std::invalid_argument("ShellModel.quads is empty");
+  if (!nodes_.allFinite()) throw std::invalid_argument("ShellModel.nodes has non-finite entries");
+  std::vector<char> used(nodes_.rows(), 0);
+  elements_.reserve(quads_.rows());
+  for (int e = 0; e < quads_.rows(); ++e) {
+    Eigen::Matrix<double, 4, 3> X;
+    for (int a = 0; a < 4; ++a) {
+      const int n = quads_(e, a);
+      if (n < 0 || n >= nodes_.rows())
+        throw std::invalid_argument("ShellModel.quads[" + std::to_string(e) + "] = node " +
+                                    std::to_string(n) + " is out of range: must be in [0, " +
+                                    std::to_string(nodes_.rows() - 1) + "]");
+      used[n] = 1;
+      X.row(a) = nodes_.row(n);
+    }
+    try {
+      elements_.emplace_back(X, ref_axis, laminate);
+    } catch (const std::invalid_argument& err) {
+      throw std::invalid_argument("ShellModel.quads[" + std::to_string(e) + "]: " + err.what());
+    }
+  }
+  for (int n = 0; n < nodes_.rows(); ++n)
+    if (!used[n])
+      throw std::invalid_argument("ShellModel.nodes[" + std::to_string(n) +
+                                  "] belongs to no element (its dofs would be singular)");
+  K_ = assemble([](const ShellElement& el, int) { return el.stiffness(); });
+  M_ = assemble([](const ShellElement& el, int) { return el.mass(); });
+}
+
+template <class ElementMatrix>
+SparseMatrix ShellModel::assemble(ElementMatrix&& element_matrix) const {
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<std::size_t>(num_elements()) * kElementDofs * kElementDofs);
+  for (int e = 0; e < num_elements(); ++e) {
+    const ElemMat Ke = element_matrix(elements_[e], e);
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        for (int i = 0; i < kNodeDofs; ++i)
+          for (int j = 0; j < kNodeDofs; ++j)
+            t.emplace_back(kNodeDofs * quads_(e, a) + i, kNodeDofs * quads_(e, b) + j,
+                           Ke(kNodeDofs * a + i, kNodeDofs * b + j));
+  }
+  SparseMatrix A(num_dofs(), num_dofs());
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+void ShellModel::check_size(const Eigen::VectorXd& u, const char* name) const {
+  if (u.size() != num_dofs())
+    throw std::invalid_argument(std::string(name) + " has wrong size: expected " +
+                                std::to_string(num_dofs()) + " (6 per node), got " +
+                                std::to_string(u.size()));
+  if (!u.allFinite()) throw std::invalid_argument(std::string(name) + " has non-finite entries");
+}
+
+ElemVec ShellModel::gather(const Eigen::VectorXd& u, int e) const {
+  ElemVec d;
+  for (int a = 0; a < 4; ++a)
+    d.segment<kNodeDofs>(kNodeDofs * a) = u.segment<kNodeDofs>(kNodeDofs * quads_(e, a));
+  return d;
+}
+
+void ShellModel::scatter(const ElemVec& fe, int e, Eigen::VectorXd* f) const {
+  for (int a = 0; a < 4; ++a)
+    f->segment<kNodeDofs>(kNodeDofs * quads_(e, a)) += fe.segment<kNodeDofs>(kNodeDofs * a);
+}
+
+double ShellModel::total_mass() const {
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(num_dofs());
+  for (int n = 0; n < num_nodes(); ++n) r(kNodeDofs * n) = 1.0;
+  return r.dot(M_ * r);
+}
+
+Eigen::VectorXd ShellModel::pressure_load(double pressure) const {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(num_dofs());
+  for (int e = 0; e < num_elements(); ++e) {
+    const ElemVec fe = elements_[e].pressure_load(pressure);
+    scatter(fe, e, &f);
+  }
+  return f;
+}
+
+SparseMatrix ShellModel::geometric_stiffness(const Eigen::Vector3d& N) const {
+  return assemble([&](const ShellElement& el, int) { return el.geometric_stiffness(N); });
+}
+
+SparseMatrix ShellModel::geometric_stiffness_from(const Eigen::VectorXd& u) const {
+  check_size(u, "u");
+  return assemble(
+      [&](const ShellElement& el, int e) { return el.geometric_stiffness_from(gather(u, e)); });
+}
+
+double ShellModel::strain_energy(const Eigen::VectorXd& u) const {
+  check_size(u, "u");
+  double U = 0;
+  for (int e = 0; e < num_elements(); ++e) U += elements_[e].strain_energy(gather(u, e));
+  return U;
+}
+
+void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f,
+                                SparseMatrix* K_T) const {
+  check_size(u, "u");
+  if (!f && !K_T) return;
+  if (f) f->setZero(num_dofs());
+  if (K_T) {
+    *K_T = assemble([&](const ShellElement& el, int e) {
+      ElemVec fe;
+      ElemMat Ke;
+      el.internal_force(gather(u, e), &fe, &Ke);
+      if (f) scatter(fe, e, f);
+      return Ke;
+    });
+    return;
+  }
+  for (int e = 0; e < num_elements(); ++e) {
+    ElemVec fe;
+    elements_[e].internal_force(gather(u, e), &fe, nullptr);
+    scatter(fe, e, f);
+  }
+}
+
+}  // namespace deployfx::fem

@@ -1,0 +1,59 @@
+#pragma once
+// A mesh of laminated shell elements with assembled sparse operators (world dofs, six per node:
+// u_x, u_y, u_z, theta_x, theta_y, theta_z; dof 6 i + k belongs to node i).
+// Immutable after construction: the linear stiffness and mass are assembled once.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "deployfx/fem/shell_element.hpp"
+#include "deployfx/material/laminate.hpp"
+
+namespace deployfx::fem {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using NodeMatrix = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;  // (nodes x 3), m
+using QuadMatrix = Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>;     // (elements x 4)
+
+class ShellModel {
+ public:
+  /// Throws std::invalid_argument for out-of-range node indices, unused nodes or a bad element.
+  ShellModel(NodeMatrix nodes, QuadMatrix quads, const material::Laminate& laminate,
+             const Eigen::Vector3d& ref_axis = Eigen::Vector3d::UnitX());
+
+  int num_nodes() const { return static_cast<int>(nodes_.rows()); }
+  int num_dofs() const { return kNodeDofs * num_nodes(); }
+  int num_elements() const { return static_cast<int>(quads_.rows()); }
+  const NodeMatrix& nodes() const { return nodes_; }
+  const QuadMatrix& quads() const { return quads_; }
+  const std::vector<ShellElement>& elements() const { return elements_; }
+
+  const SparseMatrix& stiffness() const { return K_; }  ///< K_L, N/m and N m/rad
+  const SparseMatrix& mass() const { return M_; }       ///< consistent mass, kg and kg m^2
+  /// Total translational mass (kg): r^T M r for a unit rigid translation r.
+  double total_mass() const;
+  /// Nodal forces of a uniform pressure (Pa) along each element's normal.
+  Eigen::VectorXd pressure_load(double pressure) const;
+  /// K_s for uniform membrane resultants N = (N_x, N_y, N_xy) in N/m (element axes).
+  SparseMatrix geometric_stiffness(const Eigen::Vector3d& N) const;
+  /// K_s with the resultants of the linear strains of the displacement u.
+  SparseMatrix geometric_stiffness_from(const Eigen::VectorXd& u) const;
+  /// Strain energy of the nonlinear strain field (You et al. 2016 Eq. 14), J.
+  double strain_energy(const Eigen::VectorXd& u) const;
+  /// Internal force and tangent stiffness K_L + K_L* + K_s at displacement u.
+  void internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, SparseMatrix* K_T) const;
+
+ private:
+  void check_size(const Eigen::VectorXd& u, const char* name) const;
+  ElemVec gather(const Eigen::VectorXd& u, int e) const;
+  void scatter(const ElemVec& fe, int e, Eigen::VectorXd* f) const;
+  template <class ElementMatrix>
+  SparseMatrix assemble(ElementMatrix&& element_matrix) const;
+
+  NodeMatrix nodes_;
+  QuadMatrix quads_;
+  std::vector<ShellElement> elements_;
+  SparseMatrix K_, M_;
+};
+
+}  // namespace deployfx::fem
