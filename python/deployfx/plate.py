@@ -108,6 +108,13 @@ class ShellModel:
         """Internal force ``dU/du`` (ndof) and tangent ``K_L + K_L* + K_s`` at ``u``."""
         return self._impl.internal_force(np.asarray(u, dtype=float))
 
+    def floating_frame_inertia(self) -> "_core.FloatingFrameInertia":
+        """The inertia shape integrals of this mesh as a body in a floating frame (You et al.
+        2016 Eq. 9, 28): ``mass``, ``S0``, ``J0``, ``S1`` (P_A), ``C``, ``Mij(i, j)``, ``M``
+        (L_c), and ``first_moment(d)``, ``inertia_tensor(d)``, ``rotation_coupling(d)``,
+        ``kinetic_energy(V, w, d, dd)`` for the dofs ``d`` in the model's axes (SI units)."""
+        return _core.FloatingFrameInertia(self._impl)
+
     def modes(self, n: int, fixed_dofs: Sequence[int] = ()) -> Tuple[np.ndarray, np.ndarray]:
         """Lowest ``n`` modes with ``fixed_dofs`` held at zero.
 

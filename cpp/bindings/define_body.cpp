@@ -1,0 +1,36 @@
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+
+#include "deployfx/body/floating_frame_inertia.hpp"
+
+namespace py = pybind11;
+using deployfx::body::FloatingFrameInertia;
+
+void define_body(py::module_& m) {
+  py::class_<FloatingFrameInertia::InertialForces>(m, "InertialForces")
+      .def_readonly("F", &FloatingFrameInertia::InertialForces::F)
+      .def_readonly("M", &FloatingFrameInertia::InertialForces::M)
+      .def_readonly("Q", &FloatingFrameInertia::InertialForces::Q);
+
+  py::class_<FloatingFrameInertia>(m, "FloatingFrameInertia")
+      .def(py::init<const deployfx::fem::ShellModel&>(), py::arg("model"))
+      .def_property_readonly("mass", &FloatingFrameInertia::mass)
+      .def_property_readonly("S0", &FloatingFrameInertia::S0)
+      .def_property_readonly("E0", &FloatingFrameInertia::E0)
+      .def_property_readonly("J0", &FloatingFrameInertia::J0)
+      .def_property_readonly("S1", &FloatingFrameInertia::S1)
+      .def_property_readonly("C", &FloatingFrameInertia::C)
+      .def_property_readonly("M", &FloatingFrameInertia::M)
+      .def("Mij", &FloatingFrameInertia::Mij, py::arg("i"), py::arg("j"))
+      .def("first_moment", &FloatingFrameInertia::first_moment, py::arg("d"))
+      .def("inertia_tensor", &FloatingFrameInertia::inertia_tensor, py::arg("d"))
+      .def("rotation_coupling", &FloatingFrameInertia::rotation_coupling, py::arg("d"))
+      .def("kinetic_energy", &FloatingFrameInertia::kinetic_energy, py::arg("V"), py::arg("w"),
+           py::arg("d"), py::arg("dd"))
+      .def("inertia_tensor_rate", &FloatingFrameInertia::inertia_tensor_rate, py::arg("d"), py::arg("dd"))
+      .def("centrifugal_load", &FloatingFrameInertia::centrifugal_load, py::arg("w"))
+      .def("centrifugal_stiffness", &FloatingFrameInertia::centrifugal_stiffness, py::arg("w"))
+      .def("gyroscopic", &FloatingFrameInertia::gyroscopic, py::arg("w"))
+      .def("inertial_forces", &FloatingFrameInertia::inertial_forces, py::arg("a"), py::arg("al"),
+           py::arg("w"), py::arg("d"), py::arg("dd"), py::arg("ddd"));
+}

@@ -1,0 +1,169 @@
+#include "deployfx/body/floating_frame_inertia.hpp"
+
+#include <Eigen/Geometry>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace deployfx::body {
+
+using fem::kElementDofs;
+using fem::kNodeDofs;
+
+FloatingFrameInertia::FloatingFrameInertia(const fem::ShellModel& model) : M_(model.mass()) {
+  const int n = model.num_dofs();
+  S0_.setZero();
+  E0_.setZero();
+  S1_.setZero(3, n);
+  C_.setZero(9, n);
+  std::array<std::vector<Eigen::Triplet<double>>, 9> t;
+  for (int e = 0; e < model.num_elements(); ++e) {
+    const fem::ShellElement& el = model.elements()[e];
+    const double I0 = el.I0(), I1 = el.I1(), I2 = el.I2();
+    // Global dof of each element dof.
+    std::array<int, kElementDofs> dof;
+    for (int a = 0; a < 4; ++a)
+      for (int k = 0; k < kNodeDofs; ++k) dof[kNodeDofs * a + k] = kNodeDofs * model.quads()(e, a) + k;
+    for (int q = 0; q < 4; ++q) {
+      const fem::ShellElement::Kinematics g = el.kinematics(q);
+      const double w = g.weight;
+      const Eigen::Vector3d& X = g.X_W;
+      const Eigen::Vector3d& nv = g.n_W;
+      // Through the thickness, P = X + z n and N = N0 + z N1: int rho (a + b z + c z^2) dz =
+      // I0 a + I1 b + I2 c.
+      m_ += w * I0;
+      S0_ += w * (I0 * X + I1 * nv);
+      E0_ += w * (I0 * X * X.transpose() + I1 * (X * nv.transpose() + nv * X.transpose()) +
+                  I2 * nv * nv.transpose());
+      const Eigen::Matrix<double, 3, kElementDofs> S1e = w * (I0 * g.N0 + I1 * g.N1);
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Matrix<double, 3, kElementDofs> Ci =
+            w * (I0 * X(i) * g.N0 + I1 * (X(i) * g.N1 + nv(i) * g.N0) + I2 * nv(i) * g.N1);
+        for (int c = 0; c < kElementDofs; ++c) {
+          for (int j = 0; j < 3; ++j) C_(3 * i + j, dof[c]) += Ci(j, c);
+          S1_(i, dof[c]) += S1e(i, c);
+        }
+        for (int j = 0; j < 3; ++j) {
+          const Eigen::Matrix<double, kElementDofs, kElementDofs> Me =
+              w * (I0 * g.N0.row(i).transpose() * g.N0.row(j) +
+                   I1 * (g.N0.row(i).transpose() * g.N1.row(j) + g.N1.row(i).transpose() * g.N0.row(j)) +
+                   I2 * g.N1.row(i).transpose() * g.N1.row(j));
+          for (int r = 0; r < kElementDofs; ++r)
+            for (int c = 0; c < kElementDofs; ++c)
+              if (Me(r, c) != 0.0) t[3 * i + j].emplace_back(dof[r], dof[c], Me(r, c));
+        }
+      }
+    }
+  }
+  for (int k = 0; k < 9; ++k) {
+    Mij_[k].resize(n, n);
+    Mij_[k].setFromTriplets(t[k].begin(), t[k].end());
+  }
+}
+
+Eigen::Matrix3d FloatingFrameInertia::J0() const {
+  return E0_.trace() * Eigen::Matrix3d::Identity() - E0_;
+}
+
+FloatingFrameInertia::SparseMatrix FloatingFrameInertia::Mij(int i, int j) const {
+  if (i < 0 || i > 2 || j < 0 || j > 2)
+    throw std::invalid_argument("Mij: components i, j must be in {0, 1, 2}");
+  return Mij_[3 * i + j];
+}
+
+void FloatingFrameInertia::check(const Eigen::VectorXd& d, const char* name) const {
+  if (d.size() != num_dofs())
+    throw std::invalid_argument(std::string(name) + " has wrong size: expected " +
+                                std::to_string(num_dofs()) + ", got " + std::to_string(d.size()));
+}
+
+Eigen::Vector3d FloatingFrameInertia::first_moment(const Eigen::VectorXd& d) const {
+  check(d, "d");
+  return S0_ + S1_ * d;
+}
+
+Eigen::Matrix3d FloatingFrameInertia::inertia_tensor(const Eigen::VectorXd& d) const {
+  check(d, "d");
+  // E(d) = E0 + c + c^T + q with c_ij = int rho P_i u_j, q_ij = int rho u_i u_j.
+  Eigen::Matrix3d E = E0_;
+  const Eigen::Matrix<double, 9, 1> c = C_ * d;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) E(i, j) += c(3 * i + j) + c(3 * j + i) + d.dot(Mij_[3 * i + j] * d);
+  return E.trace() * Eigen::Matrix3d::Identity() - E;
+}
+
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Eigen::VectorXd& d) const {
+  check(d, "d");
+  // (P + u)~ N row-wise: x: P_y N_z - P_z N_y (and cyclic), the u-part from M_ij.
+  Matrix3X H(3, num_dofs());
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j);
+    H.row(i) += (Mij_[3 * j + k].transpose() * d - Mij_[3 * k + j].transpose() * d).transpose();
+  }
+  return H;
+}
+
+double FloatingFrameInertia::kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
+                                            const Eigen::VectorXd& d, const Eigen::VectorXd& dd) const {
+  check(dd, "dd");
+  return 0.5 * m_ * V.dot(V) + V.dot(w.cross(first_moment(d))) + V.dot(S1_ * dd) +
+         0.5 * w.dot(inertia_tensor(d) * w) + w.dot(rotation_coupling(d) * dd) + 0.5 * dd.dot(M_ * dd);
+}
+
+Eigen::Matrix3d FloatingFrameInertia::inertia_tensor_rate(const Eigen::VectorXd& d,
+                                                          const Eigen::VectorXd& dd) const {
+  check(d, "d");
+  check(dd, "dd");
+  // Edot = c(dd) + c(dd)^T + int rho (u'_i u_j + u_i u'_j).
+  Eigen::Matrix3d Edot;
+  const Eigen::Matrix<double, 9, 1> c = C_ * dd;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      Edot(i, j) = c(3 * i + j) + c(3 * j + i) + dd.dot(Mij_[3 * i + j] * d) + d.dot(Mij_[3 * i + j] * dd);
+  return Edot.trace() * Eigen::Matrix3d::Identity() - Edot;
+}
+
+Eigen::VectorXd FloatingFrameInertia::centrifugal_load(const Eigen::Vector3d& w) const {
+  // int rho N_i^T (w_i (w.P) - |w|^2 P_i), with int rho N_i^T P_j = C.row(3 j + i)^T.
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(num_dofs());
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) f += w(i) * w(j) * C_.row(3 * j + i).transpose();
+  for (int i = 0; i < 3; ++i) f -= w.squaredNorm() * C_.row(4 * i).transpose();
+  return f;
+}
+
+FloatingFrameInertia::SparseMatrix FloatingFrameInertia::centrifugal_stiffness(const Eigen::Vector3d& w) const {
+  SparseMatrix G(num_dofs(), num_dofs());
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) G += (w(i) * w(j) - (i == j ? w.squaredNorm() : 0.0)) * Mij_[3 * i + j];
+  return G;
+}
+
+FloatingFrameInertia::SparseMatrix FloatingFrameInertia::gyroscopic(const Eigen::Vector3d& w) const {
+  // (w x u')_i = eps_ijk w_j u'_k: G_y = sum eps_ijk w_j M_ik.
+  SparseMatrix G(num_dofs(), num_dofs());
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    G += w(j) * Mij_[3 * i + k] - w(k) * Mij_[3 * i + j];
+  }
+  return G;
+}
+
+FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
+    const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
+    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {
+  check(ddd, "ddd");
+  const Eigen::Vector3d s = first_moment(d);
+  const Eigen::Matrix3d J = inertia_tensor(d);
+  const Matrix3X H = rotation_coupling(d);
+  const Eigen::Vector3d S1dd = S1_ * dd, Hdd = H * dd;
+  InertialForces f;
+  f.F = m_ * a + al.cross(s) + S1_ * ddd + w.cross(w.cross(s)) + 2.0 * w.cross(S1dd);
+  f.M = s.cross(a) + J * al + H * ddd + w.cross(J * w) + inertia_tensor_rate(d, dd) * w + w.cross(Hdd);
+  f.Q = S1_.transpose() * a + H.transpose() * al + M_ * ddd + centrifugal_load(w) +
+        centrifugal_stiffness(w) * d + 2.0 * (gyroscopic(w) * dd);
+  return f;
+}
+
+}  // namespace deployfx::body

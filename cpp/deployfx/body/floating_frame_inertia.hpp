@@ -1,0 +1,84 @@
+#pragma once
+// Inertia shape integrals of a flexible body described in a floating frame E (the frame the
+// body's elastic displacements are measured in): You et al. (2016) Eq. 9 and 28 (m_A, L_A, P_A,
+// J_A, H_A, L_c and kin), in the invariant form of Shabana, "Dynamics of Multibody Systems",
+// 4th ed., 2013, Sec. 5.4. Computed once per model from the shell model's own kinematics, so
+// they are exact integrals of the finite-element mass distribution.
+//
+// A material point at reference position P (in E) moves to P + u, u = N(P) d for the element
+// dofs d (in E axes). With E's origin velocity V and angular velocity w (both in E axes),
+//   T = 1/2 m V.V + V.(w x s(d)) + V.(S1 dd) + 1/2 w.J(d) w + w.(H(d) dd) + 1/2 dd^T M dd,
+// where s(d) = S0 + S1 d, J(d) = tr(E) I - E with E = int rho (P + u)(P + u)^T, and
+// H(d) = int rho (P + u)~ N. The drilling inertia of the shell element (a numerical device,
+// see ShellElement::mass) belongs to M only: drilling rotations move no material.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <array>
+
+#include "deployfx/fem/shell_model.hpp"
+
+namespace deployfx::body {
+
+class FloatingFrameInertia {
+ public:
+  using SparseMatrix = Eigen::SparseMatrix<double>;
+  using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+
+  /// The integrals over all dofs of `model`, whose world frame is taken as E.
+  explicit FloatingFrameInertia(const fem::ShellModel& model);
+
+  int num_dofs() const { return static_cast<int>(S1_.cols()); }
+  double mass() const { return m_; }                        ///< m_A, kg
+  const Eigen::Vector3d& S0() const { return S0_; }         ///< int rho P, kg m (m_A x centroid)
+  const Eigen::Matrix3d& E0() const { return E0_; }         ///< int rho P P^T, kg m^2
+  Eigen::Matrix3d J0() const;                               ///< J_A about E's origin, kg m^2
+  const Matrix3X& S1() const { return S1_; }                ///< P_A = int rho N, (3 x ndof)
+  /// int rho P_i N_j, (9 x ndof), row 3 i + j.
+  const Eigen::Matrix<double, 9, Eigen::Dynamic>& C() const { return C_; }
+  /// int rho N_i^T N_j for components i, j of the displacement, (ndof x ndof).
+  SparseMatrix Mij(int i, int j) const;
+  const SparseMatrix& M() const { return M_; }              ///< L_c: the element mass matrix
+
+  /// s(d) = S0 + S1 d, the first moment of the deformed body, kg m.
+  Eigen::Vector3d first_moment(const Eigen::VectorXd& d) const;
+  /// J(d) about E's origin, kg m^2.
+  Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d) const;
+  /// H(d) = int rho (P + u)~ N, the rotation-elastic coupling (H_A and kin), (3 x ndof).
+  Matrix3X rotation_coupling(const Eigen::VectorXd& d) const;
+  /// Kinetic energy for frame velocity V, angular velocity w (E axes), d and its rate dd, J.
+  double kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
+                        const Eigen::VectorXd& d, const Eigen::VectorXd& dd) const;
+  /// dJ/dt for the rate dd, kg m^2/s.
+  Eigen::Matrix3d inertia_tensor_rate(const Eigen::VectorXd& d, const Eigen::VectorXd& dd) const;
+  /// Centrifugal load on d of the undeformed body, int rho N^T (w x (w x P)), N.
+  Eigen::VectorXd centrifugal_load(const Eigen::Vector3d& w) const;
+  /// Its elastic part: int rho N^T (w x (w x u)) = G_w d; G_w = sum w_i w_j M_ij - |w|^2 sum M_ii
+  /// (the softening -Omega^2 M of Kane, Ryan & Banerjee 1987), N/m.
+  SparseMatrix centrifugal_stiffness(const Eigen::Vector3d& w) const;
+  /// Gyroscopic matrix: int rho N^T (w x u') = G_y dd, skew-symmetric, kg/s.
+  SparseMatrix gyroscopic(const Eigen::Vector3d& w) const;
+
+  /// The inertial forces of the body, int rho A dV, int rho r x A dV about E's origin and
+  /// int rho N^T A dV, for the point acceleration A = a + al x r + w x (w x r) + 2 w x u' + u''
+  /// (frame origin acceleration a, angular velocity w and acceleration al, all in E axes).
+  struct InertialForces {
+    Eigen::Vector3d F;   ///< N
+    Eigen::Vector3d M;   ///< N m, about E's origin
+    Eigen::VectorXd Q;   ///< on the dofs d
+  };
+  InertialForces inertial_forces(const Eigen::Vector3d& a, const Eigen::Vector3d& al,
+                                 const Eigen::Vector3d& w, const Eigen::VectorXd& d,
+                                 const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const;
+
+ private:
+  void check(const Eigen::VectorXd& d, const char* name) const;
+  double m_ = 0;
+  Eigen::Vector3d S0_;
+  Eigen::Matrix3d E0_;
+  Matrix3X S1_;
+  Eigen::Matrix<double, 9, Eigen::Dynamic> C_;
+  std::array<SparseMatrix, 9> Mij_;  // index 3 i + j
+  SparseMatrix M_;
+};
+
+}  // namespace deployfx::body
