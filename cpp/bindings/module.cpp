@@ -7,10 +7,12 @@ namespace py = pybind11;
 void define_material(py::module_& m);
 void define_fem(py::module_& m);
 void define_body(py::module_& m);
+void define_integrate(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "deployfx compiled core (private; use the deployfx package)";
   define_material(m);
   define_fem(m);
   define_body(m);
+  define_integrate(m);
 }

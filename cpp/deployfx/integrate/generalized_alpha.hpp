@@ -1,0 +1,61 @@
+#pragma once
+// One-step implicit integrators of the generalized-alpha family for second-order systems, in the
+// form of Arnold & Bruls (Multibody Syst. Dyn. 18, 2007, 185-202), which is Chung & Hulbert's
+// scheme (J. Appl. Mech. 60, 1993, 371-375) with the equations of motion enforced at t_{n+1}:
+//   (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) vdot_{n+1} + alpha_f vdot_n,
+//   q_{n+1} = q_n (+) h v_n + h^2 (1/2 - beta) a_n + h^2 beta a_{n+1},
+//   v_{n+1} = v_n + h (1 - gamma) a_n + h gamma a_{n+1},
+//   r(q_{n+1}, v_{n+1}, vdot_{n+1}, t_{n+1}) = 0, solved by Newton on vdot_{n+1}.
+// Newmark (beta, gamma) is alpha_m = alpha_f = 0; HHT-alpha is the alpha_m = 0 member.
+#include <Eigen/Core>
+#include <stdexcept>
+#include <string>
+
+#include "deployfx/integrate/second_order_system.hpp"
+
+namespace deployfx::integrate {
+
+struct AlphaParameters {
+  double alpha_m = 0, alpha_f = 0, beta = 0.25, gamma = 0.5;
+  /// Newmark: 0 < beta <= 1/2, gamma >= 1/2 (beta = 1/4, gamma = 1/2: average acceleration).
+  static AlphaParameters newmark(double beta, double gamma);
+  /// Hilber-Hughes-Taylor: alpha in [-1/3, 0], gamma = (1 - 2 alpha)/2, beta = (1 - alpha)^2/4.
+  static AlphaParameters hht(double alpha);
+  /// Chung-Hulbert with spectral radius at infinite frequency rho_inf in [0, 1]:
+  /// alpha_m = (2 rho - 1)/(rho + 1), alpha_f = rho/(rho + 1), gamma = 1/2 - alpha_m + alpha_f,
+  /// beta = (1 - alpha_m + alpha_f)^2 / 4.
+  static AlphaParameters generalized_alpha(double rho_inf);
+};
+
+struct NewtonOptions {
+  int max_iterations = 20;
+  double tolerance = 1e-10;  ///< on |dvdot| relative to max(|vdot|, acceleration scale)
+};
+
+/// The state the integrator carries from step to step.
+struct AlphaState {
+  double t = 0;
+  Eigen::VectorXd q, v, vdot, a;  // a: the algorithmic acceleration
+};
+
+/// Thrown when Newton fails; says when and why.
+struct StepFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class GeneralizedAlpha {
+ public:
+  GeneralizedAlpha(const SecondOrderSystem& system, AlphaParameters p, NewtonOptions newton = {});
+  /// A consistent start: solves r(q0, v0, vdot0, t0) = 0 for vdot0; a0 = vdot0.
+  AlphaState initial_state(double t0, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0) const;
+  /// Advances `s` by h. Throws StepFailure (the state is left unchanged) if Newton fails.
+  /// Returns the number of Newton iterations.
+  int step(AlphaState& s, double h) const;
+
+ private:
+  const SecondOrderSystem& sys_;
+  AlphaParameters p_;
+  NewtonOptions newton_;
+};
+
+}  // namespace deployfx::integrate
