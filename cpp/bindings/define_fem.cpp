@@ -30,6 +30,16 @@ void define_fem(py::module_& m) {
       .def("geometric_stiffness", &ShellModel::geometric_stiffness, py::arg("N"))
       .def("geometric_stiffness_from", &ShellModel::geometric_stiffness_from, py::arg("u"))
       .def("strain_energy", &ShellModel::strain_energy, py::arg("u"))
+      .def("modes",
+           [](const ShellModel& s, int n, const std::vector<int>& fixed) {
+             return constrained_modes(s.stiffness(), s.mass(), n, fixed);
+           },
+           py::arg("n"), py::arg("fixed"), py::call_guard<py::gil_scoped_release>())
+      .def("static_solve",
+           [](const ShellModel& s, const Eigen::VectorXd& f, const std::vector<int>& fixed) {
+             return static_solve(s.stiffness(), f, fixed);
+           },
+           py::arg("f"), py::arg("fixed"), py::call_guard<py::gil_scoped_release>())
       .def("internal_force", [](const ShellModel& s, const Eigen::VectorXd& u) {
         Eigen::VectorXd f;
         SparseMatrix K;
@@ -49,9 +59,4 @@ void define_fem(py::module_& m) {
            py::arg("boundary"), py::call_guard<py::gil_scoped_release>())
       .def("modes", &RectangularPlate::modes, py::arg("n"), py::arg("boundary"),
            py::call_guard<py::gil_scoped_release>());
-
-  m.def("constrained_modes", &constrained_modes, py::arg("K"), py::arg("M"), py::arg("n"),
-        py::arg("fixed"), py::call_guard<py::gil_scoped_release>());
-  m.def("static_solve", &static_solve, py::arg("K"), py::arg("f"), py::arg("fixed"),
-        py::call_guard<py::gil_scoped_release>());
 }

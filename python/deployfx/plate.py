@@ -120,14 +120,12 @@ class ShellModel:
 
         Returns frequencies (n,) in Hz, ascending, and mass-normalised shapes (ndof, n).
         """
-        r = _core.constrained_modes(self._impl.stiffness(), self._impl.mass(), as_int("n", n),
-                                    [int(d) for d in fixed_dofs])
+        r = self._impl.modes(as_int("n", n), [int(d) for d in fixed_dofs])
         return _frequencies_hz(r.eigenvalues), r.modes
 
     def static(self, load: np.ndarray, fixed_dofs: Sequence[int]) -> np.ndarray:
         """Displacements (ndof) solving ``K u = load`` with ``fixed_dofs`` held at zero."""
-        return _core.static_solve(self._impl.stiffness(), np.asarray(load, dtype=float),
-                                  [int(d) for d in fixed_dofs])
+        return self._impl.static_solve(np.asarray(load, dtype=float), [int(d) for d in fixed_dofs])
 
 
 class Plate:
