@@ -8,6 +8,7 @@ void define_material(py::module_& m);
 void define_fem(py::module_& m);
 void define_body(py::module_& m);
 void define_integrate(py::module_& m);
+void define_system(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "deployfx compiled core (private; use the deployfx package)";
@@ -15,4 +16,5 @@ PYBIND11_MODULE(_core, m) {
   define_fem(m);
   define_body(m);
   define_integrate(m);
+  define_system(m);
 }

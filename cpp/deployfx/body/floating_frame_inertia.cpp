@@ -150,6 +150,47 @@ FloatingFrameInertia::SparseMatrix FloatingFrameInertia::gyroscopic(const Eigen:
   return G;
 }
 
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Eigen::VectorXd& z, bool with_C,
+                                                                     const Eigen::Vector3d& x) const {
+  // E_ij(d) = E0_ij + C_(ij) d + C_(ji) d + d^T M_ij d, so dE_ij/dd = C_(ij) + C_(ji) + z^T (M_ij + M_ji)
+  // with z = d; (J x) = tr(E) x - E x.
+  std::array<Eigen::RowVectorXd, 9> g;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      g[3 * i + j] = (Mij_[3 * i + j].transpose() * z + Mij_[3 * j + i].transpose() * z).transpose();
+      if (with_C) g[3 * i + j] += C_.row(3 * i + j) + C_.row(3 * j + i);
+    }
+  const Eigen::RowVectorXd trace = g[0] + g[4] + g[8];
+  Matrix3X D(3, num_dofs());
+  for (int l = 0; l < 3; ++l) {
+    D.row(l) = x(l) * trace;
+    for (int j = 0; j < 3; ++j) D.row(l) -= x(j) * g[3 * l + j];
+  }
+  return D;
+}
+
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_tensor_jacobian(const Eigen::VectorXd& d,
+                                                                             const Eigen::Vector3d& x) const {
+  check(d, "d");
+  return contract_inertia(d, true, x);
+}
+
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_rate_jacobian(const Eigen::VectorXd& dd,
+                                                                           const Eigen::Vector3d& x) const {
+  check(dd, "dd");
+  return contract_inertia(dd, false, x);
+}
+
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling_jacobian(const Eigen::VectorXd& y) const {
+  check(y, "y");
+  Matrix3X D(3, num_dofs());
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    D.row(i) = (Mij_[3 * j + k] * y - Mij_[3 * k + j] * y).transpose();
+  }
+  return D;
+}
+
 FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
     const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
     const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {

@@ -58,6 +58,13 @@ class FloatingFrameInertia {
   /// Gyroscopic matrix: int rho N^T (w x u') = G_y dd, skew-symmetric, kg/s.
   SparseMatrix gyroscopic(const Eigen::Vector3d& w) const;
 
+  /// d(J(d) x)/dd for a fixed vector x, (3 x ndof). Also J'(d, dd) x = this(d, x) dd.
+  Matrix3X inertia_tensor_jacobian(const Eigen::VectorXd& d, const Eigen::Vector3d& x) const;
+  /// d(J'(d, dd) x)/dd for fixed dd and x, (3 x ndof).
+  Matrix3X inertia_rate_jacobian(const Eigen::VectorXd& dd, const Eigen::Vector3d& x) const;
+  /// d(H(d) y)/dd for a fixed y (independent of d), (3 x ndof).
+  Matrix3X rotation_coupling_jacobian(const Eigen::VectorXd& y) const;
+
   /// The inertial forces of the body, int rho A dV, int rho r x A dV about E's origin and
   /// int rho N^T A dV, for the point acceleration A = a + al x r + w x (w x r) + 2 w x u' + u''
   /// (frame origin acceleration a, angular velocity w and acceleration al, all in E axes).
@@ -72,6 +79,8 @@ class FloatingFrameInertia {
 
  private:
   void check(const Eigen::VectorXd& d, const char* name) const;
+  // Rows g_ij = d E_ij / dd contracted as tr(g) x - g x, with g_ij = [C-part] + z^T (M_ij + M_ij^T).
+  Matrix3X contract_inertia(const Eigen::VectorXd& z, bool with_C, const Eigen::Vector3d& x) const;
   double m_ = 0;
   Eigen::Vector3d S0_;
   Eigen::Matrix3d E0_;

@@ -1,0 +1,112 @@
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+
+#include "deployfx/integrate/generalized_alpha.hpp"
+#include "deployfx/integrate/trajectory.hpp"
+#include "deployfx/system/hinged_system.hpp"
+
+namespace py = pybind11;
+using namespace deployfx::system;
+using deployfx::integrate::AlphaParameters;
+
+namespace {
+
+Fidelity parse_fidelity(const std::string& s) {
+  if (s == "rigid") return Fidelity::kRigid;
+  if (s == "linear") return Fidelity::kLinear;
+  if (s == "nonlinear") return Fidelity::kNonlinear;
+  throw std::invalid_argument("fidelity = '" + s + "' is invalid: must be 'rigid', 'linear' or 'nonlinear'");
+}
+
+}  // namespace
+
+void define_system(py::module_& m) {
+  py::class_<HingedSystem>(m, "HingedSystem")
+      .def(py::init([](bool base_free, double base_mass, const Eigen::Matrix3d& base_inertia,
+                       const Eigen::Vector3d& hinge_point, const Eigen::Vector3d& hinge_axis,
+                       const Eigen::Matrix3d& R_BE0, double tau0, double k_theta, double c_theta,
+                       std::optional<std::pair<double, double>> spin_up,
+                       const deployfx::fem::ShellModel& model, std::vector<int> fixed_dofs,
+                       const std::string& fidelity) {
+             BaseSpec b{base_free, base_mass, base_inertia};
+             HingeSpec h;
+             h.point_B = hinge_point;
+             h.axis_B = hinge_axis;
+             h.R_BE0 = R_BE0;
+             h.tau0 = tau0;
+             h.k_theta = k_theta;
+             h.c_theta = c_theta;
+             if (spin_up) h.driven = true, h.driver = {spin_up->first, spin_up->second};
+             AppendageSpec a{std::make_shared<const deployfx::fem::ShellModel>(model),
+                             std::move(fixed_dofs), parse_fidelity(fidelity)};
+             return HingedSystem(b, h, a);
+           }),
+           py::arg("base_free"), py::arg("base_mass"), py::arg("base_inertia"),
+           py::arg("hinge_point"), py::arg("hinge_axis"), py::arg("R_BE0"), py::arg("tau0"),
+           py::arg("k_theta"), py::arg("c_theta"), py::arg("spin_up"), py::arg("model"),
+           py::arg("fixed_dofs"), py::arg("fidelity"))
+      .def_property_readonly("num_positions", &HingedSystem::num_positions)
+      .def_property_readonly("num_velocities", &HingedSystem::num_velocities)
+      .def("initial_positions", &HingedSystem::initial_positions)
+      .def("retract", &HingedSystem::retract, py::arg("q"), py::arg("dq"))
+      .def("outputs",
+           [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
+             const auto o = s.outputs(q, v, t);
+             py::dict d;
+             d["theta"] = o.theta;
+             d["linear_momentum"] = o.P_W;
+             d["angular_momentum"] = o.H_W;
+             d["kinetic_energy"] = o.kinetic;
+             d["potential_energy"] = o.potential;
+             return d;
+           },
+           py::arg("q"), py::arg("v"), py::arg("t"))
+      .def("residual", &HingedSystem::residual, py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"))
+      .def("iteration_matrix", &HingedSystem::iteration_matrix, py::arg("q"), py::arg("v"),
+           py::arg("a"), py::arg("t"), py::arg("c_a"), py::arg("c_v"), py::arg("c_q"));
+
+  m.def("simulate_hinged",
+        [](const HingedSystem& sys, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+           double t_end, double dt, const AlphaParameters& p) {
+          if (q0.size() != sys.num_positions() || v0.size() != sys.num_velocities())
+            throw std::invalid_argument("q0/v0 have the wrong size");
+          deployfx::integrate::Trajectory tr;
+          Eigen::MatrixXd P, H, Hb, scalars;
+          {
+            py::gil_scoped_release release;
+            const deployfx::integrate::GeneralizedAlpha integrator(sys, p);
+            tr = deployfx::integrate::run_fixed_step(integrator, integrator.initial_state(0.0, q0, v0), t_end, dt);
+            const Eigen::Index n = static_cast<Eigen::Index>(tr.t.size());
+            P.resize(n, 3), H.resize(n, 3), Hb.resize(n, 3), scalars.resize(n, 5);
+            for (Eigen::Index k = 0; k < n; ++k) {
+              const auto o = sys.outputs(tr.q[k], tr.v[k], tr.t[k]);
+              P.row(k) = o.P_W.transpose();
+              H.row(k) = o.H_W.transpose();
+              Hb.row(k) = o.H_base_W.transpose();
+              scalars.row(k) << o.theta, o.theta_rate, o.spring_torque, o.kinetic, o.potential;
+            }
+          }
+          const Eigen::Index n = static_cast<Eigen::Index>(tr.t.size());
+          Eigen::MatrixXd Q(n, sys.num_positions()), V(n, sys.num_velocities());
+          for (Eigen::Index k = 0; k < n; ++k) Q.row(k) = tr.q[k].transpose(), V.row(k) = tr.v[k].transpose();
+          py::dict d;
+          d["t"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(tr.t.data(), n));
+          d["q"] = Q;
+          d["v"] = V;
+          d["linear_momentum"] = P;
+          d["angular_momentum"] = H;
+          d["base_angular_momentum"] = Hb;
+          d["theta"] = Eigen::VectorXd(scalars.col(0));
+          d["theta_rate"] = Eigen::VectorXd(scalars.col(1));
+          d["spring_torque"] = Eigen::VectorXd(scalars.col(2));
+          d["kinetic_energy"] = Eigen::VectorXd(scalars.col(3));
+          d["potential_energy"] = Eigen::VectorXd(scalars.col(4));
+          d["newton_iterations"] = tr.newton_iterations;
+          d["failure"] = tr.failure;
+          return d;
+        },
+        py::arg("system"), py::arg("q0"), py::arg("v0"), py::arg("t_end"), py::arg("dt"), py::arg("scheme"));
+}

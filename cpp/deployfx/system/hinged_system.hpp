@@ -1,0 +1,98 @@
+#pragma once
+// A spacecraft body (free-floating or fixed), one revolute spring hinge and one appendage in the
+// hinge-rotating floating frame E: rigid, or flexible with linear or nonlinear (You et al. 2016
+// Eq. 14) strain. Equations by virtual power over body-level inertial forces (docs/engine-design.md):
+//   r = sum_b J_b^T f_b(q, v, vdot) - tau(q, v, t) = 0.
+//
+// Coordinates, in this order, each block present only when the scene needs it:
+//   q = [r_W (3), quaternion of R_WB (w, x, y, z)] [theta] [d (free elastic dofs)]
+//   v = [v_W (3), w_B (3)]                          [theta'] [d']
+// The base frame B has its origin at the base's centre of mass. theta is the hinge travel from
+// the stowed position (rad); a driven hinge has no coordinate: theta(t) is prescribed.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+#include <vector>
+
+#include "deployfx/body/floating_frame_inertia.hpp"
+#include "deployfx/fem/shell_model.hpp"
+#include "deployfx/integrate/second_order_system.hpp"
+
+namespace deployfx::system {
+
+enum class Fidelity { kRigid, kLinear, kNonlinear };
+
+struct BaseSpec {
+  bool free = true;
+  double mass = 1.0;                                    ///< kg
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  ///< about the centre of mass, B axes, kg m^2
+};
+
+/// Prescribed hinge travel of Kane, Ryan & Banerjee (1987): rate
+/// Omega(t) = (Omega_s/T_s)[t - (T_s/2 pi) sin(2 pi t/T_s)] for t <= T_s, then Omega_s.
+struct SpinUpDriver {
+  double omega_s = 0;  ///< rad/s
+  double t_s = 1;      ///< s
+  void evaluate(double t, double* theta, double* rate, double* accel) const;
+};
+
+struct HingeSpec {
+  Eigen::Vector3d point_B = Eigen::Vector3d::Zero();  ///< a point of the axis and E's origin, m
+  Eigen::Vector3d axis_B = Eigen::Vector3d::UnitY();  ///< unit axis, B axes
+  Eigen::Matrix3d R_BE0 = Eigen::Matrix3d::Identity();  ///< E's axes at theta = 0
+  double tau0 = 0;      ///< preload torque at theta = 0, N m
+  double k_theta = 0;   ///< N m/rad: tau = tau0 - k_theta theta
+  double c_theta = 0;   ///< viscous damping, N m s/rad
+  bool driven = false;  ///< theta(t) from `driver` instead of a coordinate
+  SpinUpDriver driver;
+};
+
+struct AppendageSpec {
+  std::shared_ptr<const fem::ShellModel> model;  ///< nodes in E (m)
+  std::vector<int> fixed_dofs;                   ///< clamped to E (the root edge)
+  Fidelity fidelity = Fidelity::kNonlinear;
+};
+
+class HingedSystem final : public integrate::SecondOrderSystem {
+ public:
+  HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appendage);
+
+  int num_positions() const override { return nq_; }
+  int num_velocities() const override { return nv_; }
+  int num_elastic() const { return static_cast<int>(free_.size()); }
+  Eigen::VectorXd retract(const Eigen::VectorXd& q, const Eigen::VectorXd& dq) const override;
+  Eigen::VectorXd residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                           const Eigen::VectorXd& a, double t) const override;
+  Eigen::MatrixXd iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                   const Eigen::VectorXd& a, double t, double c_a, double c_v,
+                                   double c_q) const override;
+
+  /// The initial configuration: base at rest at the origin, theta = 0, d = 0.
+  Eigen::VectorXd initial_positions() const;
+
+  struct Outputs {
+    double theta = 0, theta_rate = 0, spring_torque = 0;  // rad, rad/s, N m
+    Eigen::Vector3d P_W, H_W;       // total linear (N s) and angular momentum about W's origin (N m s)
+    Eigen::Vector3d H_base_W;       // the base's angular momentum about W's origin
+    double kinetic = 0, potential = 0;  // J (spring + strain energy)
+  };
+  Outputs outputs(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const;
+
+ private:
+  struct Kin;  // kinematics at one instant
+  Kin kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd* a,
+                 double t) const;
+  Eigen::VectorXd full(const Eigen::VectorXd& d_free) const;
+  Eigen::MatrixXd mass_matrix(const Kin& k) const;
+
+  BaseSpec base_;
+  HingeSpec hinge_;
+  AppendageSpec app_;
+  body::FloatingFrameInertia ffi_;
+  std::vector<int> free_;
+  Eigen::SparseMatrix<double> K_free_;  // K_L on the free dofs
+  int nq_ = 0, nv_ = 0;
+  int iq_theta_ = -1, iv_theta_ = -1, iq_d_ = -1, iv_d_ = -1;  // block offsets (-1: absent)
+};
+
+}  // namespace deployfx::system
