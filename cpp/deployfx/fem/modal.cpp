@@ -3,21 +3,18 @@
 // Method, with sources:
 // - Spectral transformation (Ericsson & Ruhe, Math. Comp. 35, 1980, 1251-1268): the lowest lambda
 //   become the dominant, well separated eigenvalues nu = 1/(lambda - sigma) of Op = (K - sigma
-//   M)^-1 M, symmetric in the M inner product. K - sigma M is factored once (Eigen::SimplicialLDLT,
-//   AMD ordering); start vectors lie in the range of Op (Nour-Omid, Parlett, Ericsson & Jensen,
-//   Math. Comp. 48, 1987, 663-673) and locked vectors are purified by one implicit Op step.
+//   M)^-1 M, symmetric in the M inner product; K - sigma M is factored once (SimplicialLDLT, AMD).
+//   Start vectors lie in the range of Op (Nour-Omid, Parlett, Ericsson & Jensen, Math. Comp. 48,
+//   1987, 663-673); locked vectors are purified by one implicit Op step.
 // - Block Lanczos (Golub & Underwood 1977; Grimes, Lewis & Simon, SIAM J. Matrix Anal. Appl. 15,
-//   1994, 228-272), block size 6: an eigenvalue of multiplicity <= 6 (rigid-body modes, the double
-//   modes of a square) enters the Krylov space at once. Full reorthogonalisation by two classical
-//   Gram-Schmidt passes ("twice is enough", Parlett, The Symmetric Eigenvalue Problem, 1998,
-//   Sec. 6.9); T = V^T M Op V is made of the Gram-Schmidt coefficients themselves.
-// - Converged pairs are locked (later Krylov spaces are kept M-orthogonal to them); a full Krylov
-//   space is restarted from its best unconverged Ritz vectors.
-// - Certificate, Sylvester's law of inertia: the number of negative pivots of the LDL^T of K - s M
-//   is the number of eigenvalues below s. For s just above the n-th value found it must equal the
-//   number found below s; if it is larger, the missing ones are the dominant eigenvalues of Op on
-//   the M-complement of the locked vectors and are searched there (so multiplicities beyond the
-//   block size are found too).
+//   1994), block size 6, so that a multiplicity <= 6 (rigid-body modes, double modes of a square)
+//   enters the Krylov space at once; full reorthogonalisation by two classical Gram-Schmidt passes
+//   ("twice is enough", Parlett, The Symmetric Eigenvalue Problem, 1998, Sec. 6.9). Converged
+//   pairs are locked (later Krylov spaces are M-orthogonal to them).
+// - Certificate, Sylvester's law of inertia: K - s M has as many negative LDL^T pivots as there are
+//   eigenvalues below s. For s just above the n-th value found, that count must equal the number
+//   found below s; if larger, the missing ones are the dominant eigenvalues of Op on the
+//   M-complement of the locked vectors and are searched there (any multiplicity is found).
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
@@ -201,12 +198,13 @@ class Solver {
   // start block Op S, until the `want` largest Ritz values have converged or the basis is full.
   // Locks converged Ritz pairs; returns the best unconverged Ritz vectors.
   MatrixXd run(double sigma, const MatrixXd& S, int want, double tol, Locked& lk) {
+    const int b = static_cast<int>(S.cols());
     const int cap = std::min(ndof_ - static_cast<int>(lk.X.cols()),
-                             std::max({3 * want, 2 * want + 10 * kBlock, 3 * static_cast<int>(S.cols())}));
+                             std::max({3 * want, 2 * want + 10 * kBlock, 3 * b}));
     MatrixXd V(ndof_, cap), MV(ndof_, cap), T = MatrixXd::Zero(cap, cap);
     int m = 0;
     MatrixXd W = F_.solve(M_ * S);
-    VectorXd ref2 = VectorXd::Zero(S.cols());
+    VectorXd ref2 = VectorXd::Zero(b);
     project(lk, V, MV, 0, 0, W, &ref2);
     add_block(lk, V, MV, m, W, ref2 + W.cwiseProduct(M_ * W).colwise().sum().transpose());
     Eigen::SelfAdjointEigenSolver<MatrixXd> es;
@@ -227,7 +225,7 @@ class Solver {
       const VectorXd& theta = es.eigenvalues();  // ascending
       const auto Yl = es.eigenvectors().middleRows(b0, nb).transpose();
       const VectorXd res2 = (Yl * G).cwiseProduct(Yl).rowwise().sum();
-      auto converged = [&](int i) { return theta(i) > 0 && res2(i) <= tol * tol * theta(i) * theta(i); };
+      auto converged = [&](int i) { return theta(i) > 0 && std::sqrt(res2(i)) <= tol * theta(i); };
       bool done = b1 >= want;
       for (int i = b1 - 1; done && i >= b1 - want; --i) done = converged(i);
       // Early locking: converged Ritz values above a gap of 1e3 (rigid-body modes at a tiny
@@ -244,10 +242,11 @@ class Solver {
       // Only Ritz vectors with theta >= 1e-3 theta_max are carried to the next run: the others
       // are accurate to ~eps theta_max / theta only.
       std::vector<int> lock, carry;
+      const std::size_t ncarry = std::max(kBlock, want);
       for (int i = b1 - 1; i >= 0; --i) {
         if (converged(i) && (top == b1 || i >= top))
           lock.push_back(i);
-        else if (theta(i) >= 1e-3 * theta(b1 - 1) && static_cast<int>(carry.size()) < std::max(kBlock, want))
+        else if (theta(i) >= 1e-3 * theta(b1 - 1) && carry.size() < ncarry)
           carry.push_back(i);
       }
       // Purification (Ericsson & Ruhe 1980, Sec. 4): Op x / theta = V y + W y_last / theta needs
@@ -261,8 +260,8 @@ class Solver {
           Z.col(k) = Y.col(k).segment(b0, nb) / theta(lock[k]);
           lk.lam.push_back(sigma + 1.0 / theta(lock[k]));
         }
-        const MatrixXd C = Eigen::SelfAdjointEigenSolver<MatrixXd>(
-                               MatrixXd::Identity(nl, nl) + Z.transpose() * G * Z).operatorInverseSqrt();
+        const MatrixXd gram = MatrixXd::Identity(nl, nl) + Z.transpose() * G * Z;
+        const MatrixXd C = Eigen::SelfAdjointEigenSolver<MatrixXd>(gram).operatorInverseSqrt();
         lk.X.conservativeResize(ndof_, L + nl);
         lk.MX.conservativeResize(ndof_, L + nl);
         lk.X.rightCols(nl) = (V.leftCols(b1) * Y + W * Z) * C;
@@ -294,8 +293,8 @@ void check_matrix(const SpMat& A, const std::string& name, Eigen::Index ndof) {
   for (int j = 0; j < A.outerSize(); ++j)
     for (SpMat::InnerIterator it(A, j); it; ++it) {
       if (!std::isfinite(it.value()))
-        throw_out_of_range(name + "(" + std::to_string(it.row()) + ", " + std::to_string(it.col()) + ")",
-                           it.value(), "finite");
+        throw_out_of_range(name + "(" + std::to_string(it.row()) + ", " +
+                               std::to_string(it.col()) + ")", it.value(), "finite");
       amax = std::max(amax, std::abs(it.value()));
     }
   const SpMat asym = A - SpMat(A.transpose());
@@ -344,8 +343,7 @@ ModalResult lowest_modes(const SpMat& K, const SpMat& M, int n, std::optional<do
     //     certified to keep every pivot >= 1e-10 |A_ii|, far above round-off. It is usually far
     //     below the first elastic eigenvalue, so the elastic nu ~ 1/lambda are as with sigma = 0,
     //     while the rigid-body nu ~ 1/alpha_s converge within two steps and are locked early.
-    double rho = 0;
-    for (int i = 0; i < ndof; ++i) rho = std::max(rho, kd(i) / md(i));
+    const double rho = (kd.array() / md.array()).maxCoeff();
     double ag = (rho > 0 ? rho : 1.0) * 1e-8;
     Pivots pg;
     for (int t = 0; !((pg = solver.factor(-ag)).ok && pg.negative == 0 && pg.min_rel > 1e-13);

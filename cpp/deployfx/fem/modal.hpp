@@ -15,19 +15,22 @@ struct ModalResult {
   Eigen::MatrixXd modes;        ///< (ndof x n) M-orthonormal: modes^T M modes = I
 };
 
-/// Shift-invert block Lanczos (block size 6) with full reorthogonalisation, locking of converged
-/// pairs and a Sylvester inertia check (details in modal.cpp).
-/// `shift` is sigma in (rad/s)^2; it must lie below the lowest eigenvalue (K - sigma M positive
-/// definite). Pass std::nullopt for the automatic choice: sigma = 0 if K is safely non-singular,
-/// else a small negative sigma scaled from the problem (free structures).
-/// `tol` bounds the residual of each pair relative to its eigenvalue of (K - sigma M)^-1 M.
-/// Eigenvalues are sigma + 1/nu and are not clamped: rigid-body modes may come out as tiny
-/// negative numbers. Each mode has its largest-magnitude component positive.
+/// Shift-invert block Lanczos (block size 6) with full reorthogonalisation and locking; every
+/// result is certified by Sylvester's law of inertia (the LDL^T of K - s M, s just above the n-th
+/// eigenvalue, has as many negative pivots as eigenvalues were found below s), so repeated
+/// eigenvalues (rigid-body modes, double modes of symmetric structures) come with their full
+/// multiplicity. Deterministic: fixed pseudo-random start vectors. Method notes in modal.cpp.
+/// `shift` is sigma in (rad/s)^2 and must lie below the lowest eigenvalue (K - sigma M positive
+/// definite); std::nullopt chooses sigma = 0 when K is safely non-singular, else the smallest
+/// negative sigma certified safe for the LDL^T (free structures).
+/// `tol` bounds each pair's residual ||Op x - nu x||_M <= tol nu, Op = (K - sigma M)^-1 M.
+/// Eigenvalues are sigma + 1/nu and are not clamped: rigid-body modes come out at round-off, of
+/// either sign. Each mode has its largest-magnitude component positive.
 /// Throws std::invalid_argument (message names the parameter, value and allowed range) for bad
 /// input: n < 1 or n > ndof, non-square or mismatched sizes, non-finite entries, asymmetric K or
 /// M, a non-positive diagonal of M, tol outside [1e-14, 1e-2], a non-finite shift.
-/// Throws std::runtime_error if the factorisation fails (or K - shift M is not positive
-/// definite) or the iteration does not converge.
+/// Throws std::runtime_error if a factorisation fails, K - shift M is not positive definite, M is
+/// found indefinite, or the iteration does not converge.
 ModalResult lowest_modes(const Eigen::SparseMatrix<double>& K,
                          const Eigen::SparseMatrix<double>& M, int n,
                          std::optional<double> shift = std::nullopt, double tol = 1e-10);
