@@ -61,6 +61,17 @@ def planar_reference():
     return dphi_dtheta, I_eff
 
 
+def random_state(sys, seed):
+    # A tilted base, hinge at 0.3 rad, elastic displacements ~ thickness, random velocities.
+    rng = np.random.default_rng(seed)
+    n = sys.num_velocities
+    q = sys.initial_positions()
+    q[3:7] = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])
+    q[7] = 0.3
+    q[8:] = 1e-3 * rng.normal(size=n - 7)
+    return q, rng.normal(size=n)
+
+
 def base_pitch(q):
     return 2 * np.arctan2(q[:, 5], q[:, 3])  # rotation about y from the quaternion (w, x, y, z)
 
@@ -121,13 +132,9 @@ def test_flexible_equations_conserve_momentum_and_energy_along_their_flow(fideli
     # (N m); the energy rate below 1e-5 of the power exchanged between kinetic and potential
     # energy (the difference quotient's truncation error, eps^2 E''' / 6, sets that floor).
     sys = make_system(fidelity, 2, 1)
+    q, v = random_state(sys, seed=1)
+    v *= 0.1
     n = sys.num_velocities
-    rng = np.random.default_rng(1)
-    q = sys.initial_positions()
-    q[3:7] = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])
-    q[7] = 0.3
-    q[8:] = 1e-3 * rng.normal(size=n - 7)
-    v = 0.1 * rng.normal(size=n)
     a = np.zeros(n)
     for _ in range(3):
         a -= np.linalg.solve(sys.iteration_matrix(q, v, a, 0.0, 1, 0, 0), sys.residual(q, v, a, 0.0))
@@ -149,12 +156,8 @@ def test_iteration_matrix_matches_finite_differences(fidelity):
     # (step 1e-6 on v, 1e-7 on q), tolerance 1e-5 of the largest entry.
     sys = make_system(fidelity, 2, 1)
     n = sys.num_velocities
-    rng = np.random.default_rng(0)
-    q = sys.initial_positions()
-    q[3:7] = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])
-    q[7] = 0.3
-    q[8:] = 1e-3 * rng.normal(size=n - 7)
-    v, a = rng.normal(size=n), rng.normal(size=n)
+    q, v = random_state(sys, seed=0)
+    a = np.random.default_rng(2).normal(size=n)
     r = lambda qq, vv, aa: sys.residual(qq, vv, aa, 0.0)
     E = np.eye(n)
     for (ca, cv, cq) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)]:
