@@ -170,3 +170,15 @@ def test_iteration_matrix_matches_finite_differences(fidelity):
             fd = np.column_stack([(r(sys.retract(q, 1e-7 * e), v, a) - r(sys.retract(q, -1e-7 * e), v, a)) / 2e-7
                                   for e in E])
         np.testing.assert_allclose(S, fd, atol=1e-5 * np.abs(fd).max())
+
+
+def test_wrong_sizes_raise_instead_of_crashing():
+    sys = make_system("linear", 2, 1)
+    q, v = random_state(sys, seed=3)
+    with pytest.raises(ValueError, match="sizes"):
+        sys.residual(q[:-1], v, v, 0.0)
+    with pytest.raises(ValueError, match="sizes"):
+        sys.outputs(q, v[:3], 0.0)
+    with pytest.raises(ValueError, match="fidelity"):
+        _core.HingedSystem(True, 1.0, np.eye(3), P_HINGE, np.array([0.0, 1.0, 0.0]), np.eye(3), 0.0,
+                           0.0, 0.0, None, dfx.paper2016.appendage_plate(1, 2, 1).model._impl, [], "stiff")

@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 
 #include <optional>
+#include <string>
 
 #include "deployfx/integrate/generalized_alpha.hpp"
 #include "deployfx/integrate/trajectory.hpp"
@@ -13,6 +14,16 @@ using namespace deployfx::system;
 using deployfx::integrate::AlphaParameters;
 
 namespace {
+
+// The system's methods index q, v and a directly: check sizes here so a wrong call raises.
+void check_sizes(const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                 const Eigen::VectorXd* a = nullptr) {
+  if (q.size() != s.num_positions() || v.size() != s.num_velocities() ||
+      (a && a->size() != s.num_velocities()))
+    throw std::invalid_argument("q, v, a must have sizes " + std::to_string(s.num_positions()) + ", " +
+                                std::to_string(s.num_velocities()) + ", " +
+                                std::to_string(s.num_velocities()));
+}
 
 Fidelity parse_fidelity(const std::string& s) {
   if (s == "rigid") return Fidelity::kRigid;
@@ -51,9 +62,15 @@ void define_system(py::module_& m) {
       .def_property_readonly("num_positions", &HingedSystem::num_positions)
       .def_property_readonly("num_velocities", &HingedSystem::num_velocities)
       .def("initial_positions", &HingedSystem::initial_positions)
-      .def("retract", &HingedSystem::retract, py::arg("q"), py::arg("dq"))
+      .def("retract",
+           [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& dq) {
+             check_sizes(s, q, dq);
+             return s.retract(q, dq);
+           },
+           py::arg("q"), py::arg("dq"))
       .def("outputs",
            [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
+             check_sizes(s, q, v);
              const auto o = s.outputs(q, v, t);
              py::dict d;
              d["theta"] = o.theta;
@@ -64,15 +81,26 @@ void define_system(py::module_& m) {
              return d;
            },
            py::arg("q"), py::arg("v"), py::arg("t"))
-      .def("residual", &HingedSystem::residual, py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"))
-      .def("iteration_matrix", &HingedSystem::iteration_matrix, py::arg("q"), py::arg("v"),
-           py::arg("a"), py::arg("t"), py::arg("c_a"), py::arg("c_v"), py::arg("c_q"));
+      .def("residual",
+           [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+              const Eigen::VectorXd& a, double t) {
+             check_sizes(s, q, v, &a);
+             return s.residual(q, v, a, t);
+           },
+           py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"))
+      .def("iteration_matrix",
+           [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+              const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q) {
+             check_sizes(s, q, v, &a);
+             return s.iteration_matrix(q, v, a, t, c_a, c_v, c_q);
+           },
+           py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::arg("c_a"), py::arg("c_v"),
+           py::arg("c_q"));
 
   m.def("simulate_hinged",
         [](const HingedSystem& sys, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
            double t_end, double dt, const AlphaParameters& p) {
-          if (q0.size() != sys.num_positions() || v0.size() != sys.num_velocities())
-            throw std::invalid_argument("q0/v0 have the wrong size");
+          check_sizes(sys, q0, v0);
           deployfx::integrate::Trajectory tr;
           Eigen::MatrixXd P, H, Hb, scalars;
           {

@@ -194,6 +194,8 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling_jacobian(
 FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
     const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
     const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {
+  check(d, "d");
+  check(dd, "dd");
   check(ddd, "ddd");
   const Eigen::Vector3d s = first_moment(d);
   const Eigen::Matrix3d J = inertia_tensor(d);
