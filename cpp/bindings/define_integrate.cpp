@@ -25,6 +25,7 @@ py::dict to_dict(const Trajectory& tr) {
   d["q"] = Q;
   d["v"] = V;
   d["newton_iterations"] = tr.newton_iterations;
+  d["substeps"] = tr.substeps;
   d["failure"] = tr.failure;
   return d;
 }

@@ -133,6 +133,7 @@ void define_system(py::module_& m) {
           d["kinetic_energy"] = Eigen::VectorXd(scalars.col(3));
           d["potential_energy"] = Eigen::VectorXd(scalars.col(4));
           d["newton_iterations"] = tr.newton_iterations;
+          d["substeps"] = tr.substeps;
           d["failure"] = tr.failure;
           return d;
         },

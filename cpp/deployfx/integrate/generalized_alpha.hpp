@@ -29,7 +29,9 @@ struct AlphaParameters {
 
 struct NewtonOptions {
   int max_iterations = 20;
-  double tolerance = 1e-10;  ///< on |dvdot| relative to max(|vdot|, acceleration scale)
+  /// On max|dvdot| relative to max(|vdot|, 1). 1e-8: flexible appendages put the acceleration
+  /// solve near cond(M) eps (thickness-shear rotations are light), so 1e-10 stalls at round-off.
+  double tolerance = 1e-8;
 };
 
 /// The state the integrator carries from step to step.

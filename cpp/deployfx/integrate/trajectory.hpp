@@ -1,6 +1,8 @@
 #pragma once
-// Fixed-step driver: steps an integrator to t_end and records every step. A failing step ends the
-// run early with the reason, keeping everything computed so far.
+// Fixed-output-step driver: advances an integrator to t_end and records every output step. A step
+// whose Newton iteration fails is retried as two half steps, recursively down to dt / 2^10 (fast
+// transients such as the preloaded hinge's first instants); if even that fails the run ends early
+// with the reason, keeping everything computed so far.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -12,7 +14,8 @@ namespace deployfx::integrate {
 struct Trajectory {
   std::vector<double> t;                // (steps + 1), s
   std::vector<Eigen::VectorXd> q, v;    // per recorded time
-  std::vector<int> newton_iterations;   // per step
+  std::vector<int> newton_iterations;   // per output step (summed over its substeps)
+  long substeps = 0;                    // integrator steps taken, >= number of output steps
   std::string failure;                  // empty when t_end was reached
 };
 
