@@ -5,32 +5,10 @@
 #include "deployfx/integrate/generalized_alpha.hpp"
 #include "deployfx/integrate/linear_system.hpp"
 #include "deployfx/integrate/trajectory.hpp"
+#include "trajectory_dict.hpp"
 
 namespace py = pybind11;
 using namespace deployfx::integrate;
-
-namespace {
-
-// Trajectory -> dict of numpy arrays (t: (n,), q: (n, nq), v: (n, nv)).
-py::dict to_dict(const Trajectory& tr) {
-  const Eigen::Index n = static_cast<Eigen::Index>(tr.t.size());
-  const Eigen::Index nq = n ? tr.q[0].size() : 0, nv = n ? tr.v[0].size() : 0;
-  Eigen::MatrixXd Q(n, nq), V(n, nv);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    Q.row(k) = tr.q[k].transpose();
-    V.row(k) = tr.v[k].transpose();
-  }
-  py::dict d;
-  d["t"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(tr.t.data(), n));
-  d["q"] = Q;
-  d["v"] = V;
-  d["newton_iterations"] = tr.newton_iterations;
-  d["substeps"] = tr.substeps;
-  d["failure"] = tr.failure;
-  return d;
-}
-
-}  // namespace
 
 void define_integrate(py::module_& m) {
   py::class_<AlphaParameters>(m, "AlphaParameters")
@@ -55,7 +33,7 @@ void define_integrate(py::module_& m) {
             const GeneralizedAlpha integrator(sys, p);
             tr = run_fixed_step(integrator, integrator.initial_state(0.0, q0, v0), t_end, dt);
           }
-          return to_dict(tr);
+          return trajectory_dict(tr);
         },
         py::arg("M"), py::arg("C"), py::arg("K"), py::arg("q0"), py::arg("v0"), py::arg("t_end"),
         py::arg("dt"), py::arg("scheme"));

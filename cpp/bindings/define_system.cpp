@@ -8,6 +8,7 @@
 #include "deployfx/integrate/generalized_alpha.hpp"
 #include "deployfx/integrate/trajectory.hpp"
 #include "deployfx/system/hinged_system.hpp"
+#include "trajectory_dict.hpp"
 
 namespace py = pybind11;
 using namespace deployfx::system;
@@ -117,13 +118,7 @@ void define_system(py::module_& m) {
               scalars.row(k) << o.theta, o.theta_rate, o.spring_torque, o.kinetic, o.potential;
             }
           }
-          const Eigen::Index n = static_cast<Eigen::Index>(tr.t.size());
-          Eigen::MatrixXd Q(n, sys.num_positions()), V(n, sys.num_velocities());
-          for (Eigen::Index k = 0; k < n; ++k) Q.row(k) = tr.q[k].transpose(), V.row(k) = tr.v[k].transpose();
-          py::dict d;
-          d["t"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(tr.t.data(), n));
-          d["q"] = Q;
-          d["v"] = V;
+          py::dict d = trajectory_dict(tr);
           d["linear_momentum"] = P;
           d["angular_momentum"] = H;
           d["base_angular_momentum"] = Hb;
@@ -132,9 +127,6 @@ void define_system(py::module_& m) {
           d["spring_torque"] = Eigen::VectorXd(scalars.col(2));
           d["kinetic_energy"] = Eigen::VectorXd(scalars.col(3));
           d["potential_energy"] = Eigen::VectorXd(scalars.col(4));
-          d["newton_iterations"] = tr.newton_iterations;
-          d["substeps"] = tr.substeps;
-          d["failure"] = tr.failure;
           return d;
         },
         py::arg("system"), py::arg("q0"), py::arg("v0"), py::arg("t_end"), py::arg("dt"), py::arg("scheme"));
