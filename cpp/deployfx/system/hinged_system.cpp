@@ -50,6 +50,7 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
   if (app_.fidelity != Fidelity::kRigid) {
     free_ = fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs);
     K_free_ = fem::restrict(app_.model->stiffness(), free_);
+    M_free_ = Eigen::MatrixXd(fem::restrict(ffi_.M(), free_));
   }
   nq_ = nv_ = 0;
   if (base_.free) nq_ += 7, nv_ += 6;
@@ -177,7 +178,7 @@ Eigen::MatrixXd HingedSystem::mass_matrix(const Kin& k) const {
       ME.block<3, 1>(3, 6 + i) = H.col(free_[i]);
     }
     ME.bottomLeftCorner(nf, 6) = ME.topRightCorner(6, nf).transpose();
-    ME.bottomRightCorner(nf, nf) = Eigen::MatrixXd(fem::restrict(ffi_.M(), free_));
+    ME.bottomRightCorner(nf, nf) = M_free_;
   }
   Eigen::MatrixXd M = J.transpose() * ME * J;
   if (base_.free) {

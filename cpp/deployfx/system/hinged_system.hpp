@@ -91,6 +91,7 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   body::FloatingFrameInertia ffi_;
   std::vector<int> free_;
   Eigen::SparseMatrix<double> K_free_;  // K_L on the free dofs
+  Eigen::MatrixXd M_free_;              // L_c on the free dofs (the mass matrix's elastic block)
   int nq_ = 0, nv_ = 0;
   int iq_theta_ = -1, iv_theta_ = -1, iq_d_ = -1, iv_d_ = -1;  // block offsets (-1: absent)
 };
