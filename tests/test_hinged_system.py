@@ -108,21 +108,84 @@ def test_rigid_deployment_time_from_energy():
     assert t_cross == pytest.approx(t_ref, abs=1e-3)
 
 
-def test_rigid_momentum_and_energy_drift_converge_at_second_order():
-    # Internal forces only: total momentum is conserved by the equations; the scheme keeps it to
-    # O(dt^2). Drift over 2 s relative to the base's peak angular momentum: below 1e-5 at 5 ms and
-    # shrinking by 3.5..4.5 when dt halves.
-    drift = []
-    for dt in (0.01, 0.005):
+def test_rigid_momentum_to_round_off_and_energy_to_1e_6_over_100_s():
+    # Internal forces only: the integrator solves the base's rows as Pi(q_n+1, v_n+1) = Pi(q_n, v_n)
+    # (You et al. 2016, Eq. 42-43), so momentum holds to round-off at any step: 1e-12 of the base's
+    # peak angular momentum (issue 3 asks 1e-10), even at dt = 0.05 s. Energy, undamped and
+    # rho_inf = 1: within 1e-6 of the peak kinetic energy over 100 s (the scheme's O(dt^2) error).
+    for dt in (0.05, 0.01):
         sys = make_system("rigid")
-        tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 2.0, dt,
+        tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 3.0, dt,
                                    GeneralizedAlpha(1.0)._params())
+        assert tr["failure"] == ""
         peak = np.abs(tr["base_angular_momentum"]).max()
-        drift.append(np.abs(tr["angular_momentum"]).max() / peak)
-        E = tr["kinetic_energy"] + tr["potential_energy"]
-        assert np.abs(E - E[0]).max() < 1e-5 * np.abs(tr["kinetic_energy"]).max()
-    assert drift[1] < 1e-5
-    assert 3.5 < drift[0] / drift[1] < 4.5
+        assert np.abs(tr["angular_momentum"]).max() < 1e-12 * peak
+        assert np.abs(tr["linear_momentum"]).max() < 1e-12 * M_BASE * 1e-3
+    sys = make_system("rigid")
+    tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 100.0, 0.004,
+                               GeneralizedAlpha(1.0)._params())
+    E = tr["kinetic_energy"] + tr["potential_energy"]
+    assert np.abs(E - E[0]).max() < 1e-6 * tr["kinetic_energy"].max()
+
+
+def make_flexible(fidelity, fitting=0.02):
+    """The paper's laminate on a 4 x 2 mesh with a hinge fitting of `fitting` kg m^2 (isotropic)."""
+    plate = dfx.paper2016.appendage_plate(2, 4, 2)
+    nodes = plate.model.nodes.copy()
+    nodes[:, 0] += B_H
+    nodes[:, 1] -= W / 2
+    model = dfx.ShellModel(nodes, plate.model.quads, plate.laminate)
+    return _core.HingedSystem(True, M_BASE, J_BASE * np.eye(3), P_HINGE, np.array([0.0, 1.0, 0.0]),
+                              Ry(-np.pi / 2), TAU0, K_THETA, 0.0, None, model._impl,
+                              list(plate.fixed_dofs("CFFF")), fidelity, fitting_inertia=fitting * np.eye(3))
+
+
+@pytest.mark.parametrize("fidelity", ["linear", "nonlinear"])
+def test_flexible_deployment_conserves_momentum_and_is_near_the_rigid_time(fidelity):
+    # The paper's step (dt = 10 ms, rho_inf = 0.8) over the first deployment: momentum to round-off
+    # (1e-12 of the base's peak), and the 180 deg crossing within 3 % of the rigid panel's
+    # energy-quadrature time (the flexible panel lags and stores strain energy; it deploys a little
+    # later, 2.48 s against 2.45 s on this mesh).
+    sys = make_flexible(fidelity)
+    tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 3.0, 0.01,
+                               GeneralizedAlpha(0.8)._params())
+    assert tr["failure"] == ""
+    assert np.abs(tr["angular_momentum"]).max() < 1e-12 * np.abs(tr["base_angular_momentum"]).max()
+    th, t = tr["theta"], tr["t"]
+    k = np.argmax(th >= np.pi / 2)
+    assert k > 0
+    _, I_eff = planar_reference()
+    t_rigid = scipy.integrate.quad(lambda u: 2 * np.sqrt(I_eff(u * u) / (2 * (TAU0 - K_THETA * u * u / 2))),
+                                   0, np.sqrt(np.pi / 2), epsabs=1e-12)[0]
+    assert t[k] == pytest.approx(t_rigid, rel=0.03)
+
+
+@pytest.mark.parametrize("fidelity,tol", [("linear", 2e-3), ("nonlinear", 2e-4)])
+def test_flexible_energy_is_conserved_without_numerical_damping(fidelity, tol):
+    # Undamped, rho_inf = 1 (trapezoidal rule), dt = 2.5 ms, 1 s of deployment: the total energy
+    # stays within `tol` of the peak kinetic energy (measured 4e-4 and 6e-5: O(dt^2) error).
+    sys = make_flexible(fidelity)
+    tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 1.0, 0.0025,
+                               GeneralizedAlpha(1.0)._params())
+    assert tr["failure"] == ""
+    E = tr["kinetic_energy"] + tr["potential_energy"]
+    assert np.abs(E - E[0]).max() < tol * tr["kinetic_energy"].max()
+
+
+def test_momentum_jacobian_matches_finite_differences():
+    # dPi/dv (exact: Pi is linear in v) and dPi/dq along retract(): central differences, 1e-6 of
+    # the largest entry.
+    sys = make_system("nonlinear", 2, 1)
+    q, v = random_state(sys, seed=4)
+    n = sys.num_velocities
+    E = np.eye(n)
+    Jv = sys.momentum_jacobian(q, v, 1.0, 0.0)
+    Jq = sys.momentum_jacobian(q, v, 0.0, 1.0)
+    fd_v = np.column_stack([(sys.momentum(q, v + e) - sys.momentum(q, v - e)) / 2 for e in E])
+    fd_q = np.column_stack([(sys.momentum(sys.retract(q, 1e-7 * e), v) - sys.momentum(sys.retract(q, -1e-7 * e), v))
+                            / 2e-7 for e in E])
+    np.testing.assert_allclose(Jv, fd_v, atol=1e-9 * np.abs(fd_v).max())
+    np.testing.assert_allclose(Jq, fd_q, atol=1e-6 * np.abs(fd_q).max())
 
 
 @pytest.mark.parametrize("fidelity", ["linear", "nonlinear"])

@@ -42,9 +42,12 @@ void define_system(py::module_& m) {
                        const Eigen::Matrix3d& R_BE0, double tau0, double k_theta, double c_theta,
                        std::optional<std::pair<double, double>> spin_up,
                        const deployfx::fem::ShellModel& model, std::vector<int> fixed_dofs,
-                       const std::string& fidelity) {
-             BaseSpec b{base_free, base_mass, base_inertia};
+                       const std::string& fidelity, const Eigen::Vector3d& base_com,
+                       double fitting_mass, const Eigen::Vector3d& fitting_com,
+                       const Eigen::Matrix3d& fitting_inertia) {
+             BaseSpec b{base_free, {base_mass, base_com, base_inertia}};
              HingeSpec h;
+             h.fitting = {fitting_mass, fitting_com, fitting_inertia};
              h.point_B = hinge_point;
              h.axis_B = hinge_axis;
              h.R_BE0 = R_BE0;
@@ -59,7 +62,9 @@ void define_system(py::module_& m) {
            py::arg("base_free"), py::arg("base_mass"), py::arg("base_inertia"),
            py::arg("hinge_point"), py::arg("hinge_axis"), py::arg("R_BE0"), py::arg("tau0"),
            py::arg("k_theta"), py::arg("c_theta"), py::arg("spin_up"), py::arg("model"),
-           py::arg("fixed_dofs"), py::arg("fidelity"))
+           py::arg("fixed_dofs"), py::arg("fidelity"), py::arg("base_com") = Eigen::Vector3d::Zero(),
+           py::arg("fitting_mass") = 0.0, py::arg("fitting_com") = Eigen::Vector3d::Zero(),
+           py::arg("fitting_inertia") = Eigen::Matrix3d::Zero().eval())
       .def_property_readonly("num_positions", &HingedSystem::num_positions)
       .def_property_readonly("num_velocities", &HingedSystem::num_velocities)
       .def("initial_positions", &HingedSystem::initial_positions)
@@ -93,21 +98,39 @@ void define_system(py::module_& m) {
            [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
               const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q) {
              check_sizes(s, q, v, &a);
-             return s.iteration_matrix(q, v, a, t, c_a, c_v, c_q);
+             return s.iteration_matrix(q, v, a, t, c_a, c_v, c_q).dense();
            },
            py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::arg("c_a"), py::arg("c_v"),
-           py::arg("c_q"));
+           py::arg("c_q"))
+      .def_property_readonly("num_conserved", &HingedSystem::num_conserved)
+      .def("momentum",
+           [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+             check_sizes(s, q, v);
+             return s.momentum(q, v);
+           },
+           py::arg("q"), py::arg("v"))
+      .def("momentum_jacobian",
+           [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
+              double c_q) {
+             check_sizes(s, q, v);
+             return s.momentum_jacobian(q, v, c_v, c_q);
+           },
+           py::arg("q"), py::arg("v"), py::arg("c_v"), py::arg("c_q"));
 
   m.def("simulate_hinged",
         [](const HingedSystem& sys, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
-           double t_end, double dt, const AlphaParameters& p) {
+           double t_end, double dt, const AlphaParameters& p, bool reuse_jacobian) {
           check_sizes(sys, q0, v0);
           deployfx::integrate::Trajectory tr;
           Eigen::MatrixXd P, H, Hb, scalars;
+          long factorizations = 0;
           {
             py::gil_scoped_release release;
-            const deployfx::integrate::GeneralizedAlpha integrator(sys, p);
+            deployfx::integrate::NewtonOptions newton;
+            newton.reuse_jacobian = reuse_jacobian;
+            const deployfx::integrate::GeneralizedAlpha integrator(sys, p, newton);
             tr = deployfx::integrate::run_fixed_step(integrator, integrator.initial_state(0.0, q0, v0), t_end, dt);
+            factorizations = integrator.factorizations();
             const Eigen::Index n = static_cast<Eigen::Index>(tr.t.size());
             P.resize(n, 3), H.resize(n, 3), Hb.resize(n, 3), scalars.resize(n, 5);
             for (Eigen::Index k = 0; k < n; ++k) {
@@ -119,6 +142,7 @@ void define_system(py::module_& m) {
             }
           }
           py::dict d = trajectory_dict(tr);
+          d["factorizations"] = factorizations;
           d["linear_momentum"] = P;
           d["angular_momentum"] = H;
           d["base_angular_momentum"] = Hb;
@@ -129,5 +153,6 @@ void define_system(py::module_& m) {
           d["potential_energy"] = Eigen::VectorXd(scalars.col(4));
           return d;
         },
-        py::arg("system"), py::arg("q0"), py::arg("v0"), py::arg("t_end"), py::arg("dt"), py::arg("scheme"));
+        py::arg("system"), py::arg("q0"), py::arg("v0"), py::arg("t_end"), py::arg("dt"), py::arg("scheme"),
+        py::arg("reuse_jacobian") = true);
 }

@@ -197,15 +197,38 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
   check(d, "d");
   check(dd, "dd");
   check(ddd, "ddd");
-  const Eigen::Vector3d s = first_moment(d);
-  const Eigen::Matrix3d J = inertia_tensor(d);
-  const Matrix3X H = rotation_coupling(d);
+  // Every d-dependent integral below is built from the 18 products M_ij d and M_ij dd, formed
+  // once (M_ij^T = M_ji); the formulas are those of inertia_tensor(), rotation_coupling(),
+  // inertia_tensor_rate(), centrifugal_stiffness() and gyroscopic().
+  std::array<Eigen::VectorXd, 9> Pd, Pdd;
+  for (int k = 0; k < 9; ++k) {
+    Pd[k] = Mij_[k] * d;
+    Pdd[k] = Mij_[k] * dd;
+  }
+  const Eigen::Matrix<double, 9, 1> cd = C_ * d, cdd = C_ * dd;
+  Eigen::Matrix3d E = E0_, Edot;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const int ij = 3 * i + j, ji = 3 * j + i;
+      E(i, j) += cd(ij) + cd(ji) + d.dot(Pd[ij]);
+      Edot(i, j) = cdd(ij) + cdd(ji) + dd.dot(Pd[ij]) + d.dot(Pdd[ij]);
+    }
+  const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d J = E.trace() * I3 - E, Jdot = Edot.trace() * I3 - Edot;
+  Matrix3X H(3, num_dofs());
+  Eigen::VectorXd Gd = Eigen::VectorXd::Zero(num_dofs()), Gdd = Eigen::VectorXd::Zero(num_dofs());
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
+    Gdd += w(j) * Pdd[3 * i + k] - w(k) * Pdd[3 * i + j];  // G_y(w) dd
+    for (int l = 0; l < 3; ++l) Gd += (w(i) * w(l) - (i == l ? w.squaredNorm() : 0.0)) * Pd[3 * i + l];
+  }
+  const Eigen::Vector3d s = S0_ + S1_ * d;
   const Eigen::Vector3d S1dd = S1_ * dd, Hdd = H * dd;
   InertialForces f;
   f.F = m_ * a + al.cross(s) + S1_ * ddd + w.cross(w.cross(s)) + 2.0 * w.cross(S1dd);
-  f.M = s.cross(a) + J * al + H * ddd + w.cross(J * w) + inertia_tensor_rate(d, dd) * w + w.cross(Hdd);
-  f.Q = S1_.transpose() * a + H.transpose() * al + M_ * ddd + centrifugal_load(w) +
-        centrifugal_stiffness(w) * d + 2.0 * (gyroscopic(w) * dd);
+  f.M = s.cross(a) + J * al + H * ddd + w.cross(J * w) + Jdot * w + w.cross(Hdd);
+  f.Q = S1_.transpose() * a + H.transpose() * al + M_ * ddd + centrifugal_load(w) + Gd + 2.0 * Gdd;
   return f;
 }
 

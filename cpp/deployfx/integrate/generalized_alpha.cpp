@@ -34,47 +34,92 @@ AlphaState GeneralizedAlpha::initial_state(double t0, const Eigen::VectorXd& q0,
                                            const Eigen::VectorXd& v0) const {
   AlphaState s{t0, q0, v0, Eigen::VectorXd::Zero(v0.size()), Eigen::VectorXd()};
   // r is affine in vdot: one Newton step with S = dr/da is exact, a second polishes round-off.
+  BorderedSolver mass;
   for (int k = 0; k < 2; ++k) {
     const Eigen::VectorXd r = sys_.residual(s.q, s.v, s.vdot, t0);
-    s.vdot -= sys_.iteration_matrix(s.q, s.v, s.vdot, t0, 1.0, 0.0, 0.0).partialPivLu().solve(r);
+    if (!mass.factorize(sys_.iteration_matrix(s.q, s.v, s.vdot, t0, 1.0, 0.0, 0.0)))
+      throw StepFailure("the mass matrix is singular at t = " + std::to_string(t0) + " s");
+    s.vdot -= mass.solve(r);
   }
   if (!s.vdot.allFinite()) throw StepFailure("initial accelerations are not finite at t = " + std::to_string(t0));
   s.a = s.vdot;
   return s;
 }
 
+void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v,
+                                       const Eigen::VectorXd& Pi) const {
+  // Pi is linear in v: one solve with dPi/dv on the conserved velocities is exact.
+  const int nc = sys_.num_conserved();
+  const Eigen::MatrixXd J = sys_.momentum_jacobian(q, v, 1.0, 0.0).leftCols(nc);
+  v.head(nc) += J.partialPivLu().solve(Pi - sys_.momentum(q, v));
+}
+
 int GeneralizedAlpha::step(AlphaState& s, double h) const {
   const double am = p_.alpha_m, af = p_.alpha_f, beta = p_.beta, gamma = p_.gamma;
   const double t1 = s.t + h;
+  const int nc = sys_.num_conserved();
+  const Eigen::VectorXd Pi_n = nc ? sys_.momentum(s.q, s.v) : Eigen::VectorXd();
   // a_{n+1} as a function of vdot_{n+1}; c = d a_{n+1} / d vdot_{n+1}.
   const double c = (1 - af) / (1 - am);
-  Eigen::VectorXd vdot = s.vdot;  // predictor: constant acceleration
   auto a_of = [&](const Eigen::VectorXd& vd) { return ((1 - af) * vd + af * s.vdot - am * s.a) / (1 - am); };
+  auto fail = [&](const std::string& why) {
+    std::ostringstream e;
+    e << "Newton failed at t = " << t1 << " s (step " << h << " s): " << why;
+    factor_h_ = -1;  // the next attempt starts from a fresh matrix
+    return StepFailure(e.str());
+  };
+  Eigen::VectorXd vdot = s.vdot;  // predictor: constant acceleration
+  // Convergence is judged against the accelerations at the step's start: an iterate that has run
+  // away cannot make its own increments look small.
   const double scale = std::max(1.0, s.vdot.lpNorm<Eigen::Infinity>());
+  bool refactor = !newton_.reuse_jacobian || factor_h_ != h;
+  double previous = 0;
   for (int it = 1; it <= newton_.max_iterations; ++it) {
     const Eigen::VectorXd a1 = a_of(vdot);
-    const Eigen::VectorXd dq = h * s.v + h * h * ((0.5 - beta) * s.a + beta * a1);
-    const Eigen::VectorXd q1 = sys_.retract(s.q, dq);
+    const Eigen::VectorXd q1 = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a1));
     const Eigen::VectorXd v1 = s.v + h * ((1 - gamma) * s.a + gamma * a1);
-    const Eigen::VectorXd r = sys_.residual(q1, v1, vdot, t1);
-    if (!r.allFinite()) {
-      std::ostringstream e;
-      e << "Newton failed at t = " << t1 << " s (step " << h << " s): the residual is not finite";
-      throw StepFailure(e.str());
+    Eigen::VectorXd r = sys_.residual(q1, v1, vdot, t1);
+    if (nc) r.head(nc) = (sys_.momentum(q1, v1) - Pi_n) / (h * gamma * c);  // Eq. 42-43, integrated
+    if (!r.allFinite()) throw fail("the residual is not finite");
+    const bool fresh = refactor;
+    if (fresh) {
+      BlockMatrix S = sys_.iteration_matrix(q1, v1, vdot, t1, 1.0, h * gamma * c, h * h * beta * c);
+      if (nc) {  // d/dvdot of the momentum rows above
+        const Eigen::MatrixXd JP = sys_.momentum_jacobian(q1, v1, 1.0, h * beta / gamma);
+        S.A.topRows(nc) = JP.leftCols(S.border());
+        S.B.topRows(nc) = JP.rightCols(S.elastic());
+      }
+      if (!solver_.factorize(S)) throw fail("the iteration matrix is singular");
+      factor_h_ = h;
+      refactor = !newton_.reuse_jacobian;
     }
-    const Eigen::MatrixXd S = sys_.iteration_matrix(q1, v1, vdot, t1, 1.0, h * gamma * c, h * h * beta * c);
-    const Eigen::VectorXd dv = S.partialPivLu().solve(r);
+    const Eigen::VectorXd dv = solver_.solve(r);
+    const double size = dv.lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(size)) throw fail("the Newton increment is not finite");
+    const double rho = previous > 0 ? size / previous : 0.0;
+    if (!fresh && rho >= 1) {  // an old matrix that no longer contracts: refactor here instead
+      refactor = true;
+      continue;
+    }
     vdot -= dv;
-    if (dv.lpNorm<Eigen::Infinity>() <= newton_.tolerance * std::max(scale, vdot.lpNorm<Eigen::Infinity>())) {
+    // Contraction rate of the (possibly modified) Newton iteration; its error estimate
+    // rho/(1 - rho) |dv| (Hairer & Wanner, Solving ODEs II, Sec. IV.8) decides convergence.
+    const double error = rho > 0 && rho < 1 ? size * rho / (1 - rho) : size;
+    const bool stalled = fresh && rho > 0.5 && size <= newton_.floor * scale;  // round-off floor
+    if (error <= newton_.tolerance * scale || stalled) {
       const Eigen::VectorXd a_new = a_of(vdot);
       s.q = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a_new));
       s.v += h * ((1 - gamma) * s.a + gamma * a_new);
+      if (nc) polish_momentum(s.q, s.v, Pi_n);
       s.vdot = vdot;
       s.a = a_new;
       s.t = t1;
       return it;
     }
+    if (!fresh && rho > newton_.contraction) refactor = true;  // slow with an old matrix
+    previous = size;
   }
+  factor_h_ = -1;
   std::ostringstream e;
   e << "Newton did not converge at t = " << t1 << " s (step " << h << " s) in "
     << newton_.max_iterations << " iterations";

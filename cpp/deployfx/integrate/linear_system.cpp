@@ -17,10 +17,10 @@ Eigen::VectorXd LinearSystem::residual(const Eigen::VectorXd& q, const Eigen::Ve
   return M_ * a + C_ * v + K_ * q;
 }
 
-Eigen::MatrixXd LinearSystem::iteration_matrix(const Eigen::VectorXd&, const Eigen::VectorXd&,
-                                               const Eigen::VectorXd&, double, double c_a,
-                                               double c_v, double c_q) const {
-  return c_a * M_ + c_v * C_ + c_q * K_;
+BlockMatrix LinearSystem::iteration_matrix(const Eigen::VectorXd&, const Eigen::VectorXd&,
+                                           const Eigen::VectorXd&, double, double c_a, double c_v,
+                                           double c_q) const {
+  return BlockMatrix::from_dense(c_a * M_ + c_v * C_ + c_q * K_);
 }
 
 }  // namespace deployfx::integrate

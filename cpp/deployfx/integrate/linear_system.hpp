@@ -15,7 +15,7 @@ class LinearSystem final : public SecondOrderSystem {
   int num_velocities() const override { return static_cast<int>(M_.rows()); }
   Eigen::VectorXd residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                            const Eigen::VectorXd& a, double t) const override;
-  Eigen::MatrixXd iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+  BlockMatrix iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                    const Eigen::VectorXd& a, double t, double c_a, double c_v,
                                    double c_q) const override;
 

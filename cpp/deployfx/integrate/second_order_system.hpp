@@ -5,6 +5,8 @@
 // velocity v and acceleration a (both of size num_velocities()).
 #include <Eigen/Core>
 
+#include "deployfx/integrate/block_matrix.hpp"
+
 namespace deployfx::integrate {
 
 class SecondOrderSystem {
@@ -20,10 +22,25 @@ class SecondOrderSystem {
   virtual Eigen::VectorXd residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                    const Eigen::VectorXd& a, double t) const = 0;
   /// S = c_a dr/da + c_v dr/dv + c_q dr/dq, the Newton iteration matrix of an implicit scheme
-  /// (dr/dq taken along retract()).
-  virtual Eigen::MatrixXd iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                           const Eigen::VectorXd& a, double t, double c_a,
-                                           double c_v, double c_q) const = 0;
+  /// (dr/dq taken along retract()), with the velocity ordering's leading dofs as the border.
+  virtual BlockMatrix iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                       const Eigen::VectorXd& a, double t, double c_a,
+                                       double c_v, double c_q) const = 0;
+
+  // Conserved momenta. A free-floating system's first rows are the balance of its total momentum,
+  // d(Pi)/dt = 0 with no external load (You et al. 2016, Eq. 36-43). An integrator may replace
+  // those rows by Pi(q_{n+1}, v_{n+1}) = Pi(q_n, v_n) to conserve momentum to round-off.
+  /// Number of leading residual rows that are momentum balances (0: none).
+  virtual int num_conserved() const { return 0; }
+  /// Pi(q, v), size num_conserved(), in a fixed (inertial) frame.
+  virtual Eigen::VectorXd momentum(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/) const {
+    return {};
+  }
+  /// c_v dPi/dv + c_q dPi/dq, (num_conserved() x num_velocities()).
+  virtual Eigen::MatrixXd momentum_jacobian(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/,
+                                            double /*c_v*/, double /*c_q*/) const {
+    return {};
+  }
 };
 
 }  // namespace deployfx::integrate

@@ -1,13 +1,27 @@
 #include "deployfx/system/hinged_system.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "deployfx/fem/constrained_solve.hpp"
 #include "deployfx/math/check.hpp"
 #include "deployfx/math/so3.hpp"
 
 namespace deployfx::system {
+namespace {
+
+// A rigid body's inertia about its centre of mass: symmetric and positive (semi)definite.
+void check_inertia(const std::string& name, const Eigen::Matrix3d& J, bool definite) {
+  const bool symmetric = J.allFinite() && (J - J.transpose()).norm() <= 1e-12 * std::max(1.0, J.norm());
+  const Eigen::Vector3d lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(J).eigenvalues();
+  if (!symmetric || !(definite ? lambda.minCoeff() > 0 : lambda.minCoeff() >= -1e-12 * J.norm()))
+    throw std::invalid_argument(name + " must be symmetric positive " +
+                                (definite ? "definite" : "semidefinite") + " (kg m^2)");
+}
+
+}  // namespace
 
 void SpinUpDriver::evaluate(double t, double* theta, double* rate, double* accel) const {
   const double w = 2 * M_PI / t_s;
@@ -27,6 +41,7 @@ struct HingedSystem::Kin {
   Eigen::Vector3d r_W = Eigen::Vector3d::Zero(), v_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d w_B = Eigen::Vector3d::Zero(), a_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d wd_B = Eigen::Vector3d::Zero();
+  Eigen::Vector3d V_B = Eigen::Vector3d::Zero(), a_B = Eigen::Vector3d::Zero();  // B's origin, B axes
   double theta = 0, rate = 0, accel = 0;
   Eigen::Vector3d V_E, w_E, a_E, al_E;  // E's origin velocity/acceleration and rates, E axes
   Eigen::VectorXd d, dd, ddd;           // all dofs of the shell model
@@ -36,11 +51,14 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
     : base_(std::move(base)), hinge_(std::move(hinge)), app_(std::move(appendage)),
       ffi_(app_.model ? *app_.model : throw std::invalid_argument("appendage.model is missing")) {
   if (base_.free) {
-    require_positive("base.mass", base_.mass, "(kg)");
-    if (!base_.inertia.allFinite() || base_.inertia.llt().info() != Eigen::Success ||
-        (base_.inertia - base_.inertia.transpose()).norm() > 1e-12 * base_.inertia.norm())
-      throw std::invalid_argument("base.inertia must be symmetric positive definite (kg m^2)");
+    require_positive("base.mass", base_.inertia.mass, "(kg)");
+    check_inertia("base.inertia", base_.inertia.inertia_com, true);
+    if (!base_.inertia.com.allFinite()) throw std::invalid_argument("base.com must be finite (m)");
   }
+  if (!(hinge_.fitting.mass >= 0 && std::isfinite(hinge_.fitting.mass)))
+    throw_out_of_range("hinge.fitting_mass", hinge_.fitting.mass, ">= 0 (kg)");
+  check_inertia("hinge.fitting_inertia", hinge_.fitting.inertia_com, false);
+  if (!hinge_.fitting.com.allFinite()) throw std::invalid_argument("hinge.fitting_com must be finite (m)");
   if (!(std::abs(hinge_.axis_B.norm() - 1.0) < 1e-9))
     throw std::invalid_argument("hinge.axis must be a unit vector");
   require_finite("hinge.tau0", hinge_.tau0, "(N m)");
@@ -50,7 +68,12 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
   if (app_.fidelity != Fidelity::kRigid) {
     free_ = fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs);
     K_free_ = fem::restrict(app_.model->stiffness(), free_);
-    M_free_ = Eigen::MatrixXd(fem::restrict(ffi_.M(), free_));
+    // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
+    block_.emplace(app_.model->stiffness(), free_);
+    M_vals_ = block_->aligned(ffi_.M());
+    K_vals_ = block_->aligned(app_.model->stiffness());
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Mij_vals_[3 * i + j] = block_->aligned(ffi_.Mij(i, j));
   }
   nq_ = nv_ = 0;
   if (base_.free) nq_ += 7, nv_ += 6;
@@ -115,139 +138,215 @@ HingedSystem::Kin HingedSystem::kinematics(const Eigen::VectorXd& q, const Eigen
   k.R_BE = Eigen::AngleAxisd(k.theta, ax).toRotationMatrix() * hinge_.R_BE0;
   k.R_WE = k.R_WB * k.R_BE;
   const Eigen::Matrix3d R_EB = k.R_BE.transpose();
-  const Eigen::Vector3d a_B = k.R_WB.transpose() * k.a_W;
-  k.V_E = R_EB * (k.R_WB.transpose() * k.v_W + k.w_B.cross(p));
+  k.a_B = k.R_WB.transpose() * k.a_W;
+  k.V_B = k.R_WB.transpose() * k.v_W;
+  k.V_E = R_EB * (k.V_B + k.w_B.cross(p));
   k.w_E = R_EB * (k.w_B + k.rate * ax);
   k.al_E = R_EB * (k.wd_B + k.accel * ax + k.rate * k.w_B.cross(ax));
-  k.a_E = R_EB * (a_B + k.wd_B.cross(p) + k.w_B.cross(k.w_B.cross(p)));
+  k.a_E = R_EB * (k.a_B + k.wd_B.cross(p) + k.w_B.cross(k.w_B.cross(p)));
   return k;
+}
+
+
+Eigen::VectorXd HingedSystem::inertial_residual(const Kin& k, const Eigen::VectorXd& q) const {
+  (void)q;
+  const auto f = ffi_.inertial_forces(k.a_E, k.al_E, k.w_E, k.d, k.dd, k.ddd);
+  const auto fit = hinge_.fitting.inertial_forces(k.a_E, k.al_E, k.w_E);
+  // On the appendage and its fitting, about E's origin, B axes.
+  const Eigen::Vector3d F_B = k.R_BE * (f.F + fit.head<3>()), M_B = k.R_BE * (f.M + fit.tail<3>());
+  Eigen::VectorXd r(nv_);
+  if (base_.free) {
+    // Virtual power of delta v_W and delta w_B: E's origin moves with B at point_B.
+    const auto fb = base_.inertia.inertial_forces(k.a_B, k.wd_B, k.w_B);
+    r.head<3>() = k.R_WB * (fb.head<3>() + F_B);
+    r.segment<3>(3) = fb.tail<3>() + hinge_.point_B.cross(F_B) + M_B;
+  }
+  if (iv_theta_ >= 0)
+    r(iv_theta_) = hinge_.axis_B.dot(M_B) - (hinge_.tau0 - hinge_.k_theta * k.theta) +
+                   hinge_.c_theta * k.rate;
+  for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) = f.Q(free_[i]);
+  return r;
 }
 
 Eigen::VectorXd HingedSystem::residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                        const Eigen::VectorXd& a, double t) const {
   const Kin k = kinematics(q, v, &a, t);
-  const auto f = ffi_.inertial_forces(k.a_E, k.al_E, k.w_E, k.d, k.dd, k.ddd);
-  const Eigen::Vector3d F_B = k.R_BE * f.F, M_B = k.R_BE * f.M;  // on the appendage, B axes
-  Eigen::VectorXd r(nv_);
-  if (base_.free) {
-    // Virtual power of delta v_W and delta w_B: E's origin moves with B at point_B.
-    r.head<3>() = base_.mass * k.a_W + k.R_WB * F_B;
-    r.segment<3>(3) = base_.inertia * k.wd_B + k.w_B.cross(base_.inertia * k.w_B) +
-                      hinge_.point_B.cross(F_B) + M_B;
-  }
-  if (iv_theta_ >= 0)
-    r(iv_theta_) = hinge_.axis_B.dot(M_B) - (hinge_.tau0 - hinge_.k_theta * k.theta) +
-                   hinge_.c_theta * k.rate;
+  Eigen::VectorXd r = inertial_residual(k, q);
   if (iv_d_ >= 0) {
-    Eigen::VectorXd elastic;
     if (app_.fidelity == Fidelity::kNonlinear) {
       Eigen::VectorXd f_int;
-      app_.model->internal_force(k.d, &f_int, nullptr);
-      elastic.resize(num_elastic());
-      for (int i = 0; i < num_elastic(); ++i) elastic(i) = f_int(free_[i]);
+      app_.model->internal_force(k.d, &f_int, nullptr);  // Eq. 14 (Green strain)
+      for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) += f_int(free_[i]);
     } else {
-      elastic = K_free_ * q.segment(iq_d_, num_elastic());
+      r.segment(iv_d_, num_elastic()) += K_free_ * q.segment(iq_d_, num_elastic());
     }
-    for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) = f.Q(free_[i]) + elastic(i);
   }
   return r;
 }
 
-Eigen::MatrixXd HingedSystem::mass_matrix(const Kin& k) const {
-  // M = J_E^T M_E J_E + base, with J_E mapping vdot to (a_E, al_E, d'') (docs/engine-design.md).
-  const int nf = num_elastic();
+void HingedSystem::add_mass_matrix(const Kin& k, double c_a, integrate::BlockMatrix& S) const {
+  // M = Jr^T M_E Jr + base on the border, with Jr mapping the border accelerations to E's
+  // (a_E, al_E); the elastic rows of J are the identity (docs/engine-design.md).
+  const int nf = num_elastic(), nb = nv_ - nf;
   const Eigen::Matrix3d R_EB = k.R_BE.transpose();
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6 + nf, nv_);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> Jr = Eigen::MatrixXd::Zero(6, nb);
   if (base_.free) {
-    J.block<3, 3>(0, 0) = R_EB * k.R_WB.transpose();
-    J.block<3, 3>(0, 3) = -R_EB * skew(hinge_.point_B);
-    J.block<3, 3>(3, 3) = R_EB;
+    Jr.block<3, 3>(0, 0) = R_EB * k.R_WB.transpose();
+    Jr.block<3, 3>(0, 3) = -R_EB * skew(hinge_.point_B);
+    Jr.block<3, 3>(3, 3) = R_EB;
+    Eigen::Matrix<double, 6, 6> Jb = Eigen::Matrix<double, 6, 6>::Identity();
+    Jb.topLeftCorner<3, 3>() = k.R_WB.transpose();
+    S.A.topLeftCorner<6, 6>() += c_a * Jb.transpose() * base_.inertia.spatial() * Jb;
   }
-  if (iv_theta_ >= 0) J.block<3, 1>(3, iv_theta_) = R_EB * hinge_.axis_B;
-  if (nf) J.bottomRightCorner(nf, nf).setIdentity();
-  Eigen::MatrixXd ME = Eigen::MatrixXd::Zero(6 + nf, 6 + nf);
+  if (iv_theta_ >= 0) Jr.block<3, 1>(3, iv_theta_) = R_EB * hinge_.axis_B;
+  Eigen::Matrix<double, 6, 6> ME = hinge_.fitting.spatial();
   const Eigen::Vector3d s = ffi_.first_moment(k.d);
-  ME.block<3, 3>(0, 0) = ffi_.mass() * Eigen::Matrix3d::Identity();
-  ME.block<3, 3>(0, 3) = -skew(s);
-  ME.block<3, 3>(3, 0) = skew(s);
-  ME.block<3, 3>(3, 3) = ffi_.inertia_tensor(k.d);
+  ME.topLeftCorner<3, 3>() += ffi_.mass() * Eigen::Matrix3d::Identity();
+  ME.block<3, 3>(0, 3) -= skew(s);
+  ME.block<3, 3>(3, 0) += skew(s);
+  ME.bottomRightCorner<3, 3>() += ffi_.inertia_tensor(k.d);
+  S.A += c_a * Jr.transpose() * ME * Jr;
   if (nf) {
     const auto H = ffi_.rotation_coupling(k.d);
+    Eigen::Matrix<double, 6, Eigen::Dynamic> Mre(6, nf);
     for (int i = 0; i < nf; ++i) {
-      ME.block<3, 1>(0, 6 + i) = ffi_.S1().col(free_[i]);
-      ME.block<3, 1>(3, 6 + i) = H.col(free_[i]);
+      Mre.block<3, 1>(0, i) = ffi_.S1().col(free_[i]);
+      Mre.block<3, 1>(3, i) = H.col(free_[i]);
     }
-    ME.bottomLeftCorner(nf, 6) = ME.topRightCorner(6, nf).transpose();
-    ME.bottomRightCorner(nf, nf) = M_free_;
+    const Eigen::MatrixXd JtM = c_a * Jr.transpose() * Mre;
+    S.B += JtM;
+    S.C += JtM.transpose();
   }
-  Eigen::MatrixXd M = J.transpose() * ME * J;
-  if (base_.free) {
-    M.block<3, 3>(0, 0) += base_.mass * Eigen::Matrix3d::Identity();
-    M.block<3, 3>(3, 3) += base_.inertia;
-  }
-  return M;
 }
 
-Eigen::MatrixXd HingedSystem::iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                               const Eigen::VectorXd& a, double t, double c_a,
-                                               double c_v, double c_q) const {
+integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                                      const Eigen::VectorXd& a, double t, double c_a,
+                                                      double c_v, double c_q) const {
   const Kin k = kinematics(q, v, &a, t);
-  Eigen::MatrixXd S = c_a * mass_matrix(k);
-  // Columns of the base and hinge coordinates: central differences of the residual (at most 7).
-  const int n_rigid = nv_ - num_elastic();
-  for (int j = 0; j < n_rigid; ++j) {
-    const double hv = 1e-7 * std::max(1.0, std::abs(v(j)));
+  const int nf = num_elastic(), nb = nv_ - nf;
+  integrate::BlockMatrix S;
+  S.A = Eigen::MatrixXd::Zero(nb, nb);
+  S.B = Eigen::MatrixXd::Zero(nb, nf);
+  S.C = Eigen::MatrixXd::Zero(nf, nb);
+  add_mass_matrix(k, c_a, S);  // border blocks; the elastic block's L_c is added below
+  // Border columns (base and hinge coordinates, at most 7): central differences of the inertial
+  // residual; the elastic internal force does not depend on them.
+  for (int j = 0; j < nb; ++j) {
+    const double hv = 1e-7 * std::max(1.0, std::abs(v(j))), hq = 1e-7;
     Eigen::VectorXd vp = v, vm = v;
     vp(j) += hv;
     vm(j) -= hv;
-    S.col(j) += c_v * (residual(q, vp, a, t) - residual(q, vm, a, t)) / (2 * hv);
-    const double hq = 1e-7;
     const Eigen::VectorXd e = Eigen::VectorXd::Unit(nv_, j);
-    S.col(j) += c_q * (residual(retract(q, hq * e), v, a, t) - residual(retract(q, -hq * e), v, a, t)) / (2 * hq);
+    const Eigen::VectorXd col =
+        c_v * (inertial_residual(kinematics(q, vp, &a, t), q) - inertial_residual(kinematics(q, vm, &a, t), q)) / (2 * hv) +
+        c_q * (inertial_residual(kinematics(retract(q, hq * e), v, &a, t), q) -
+               inertial_residual(kinematics(retract(q, -hq * e), v, &a, t), q)) / (2 * hq);
+    S.A.col(j) += col.head(nb);
+    S.C.col(j) += col.tail(nf);
+  }
+  if (iv_d_ < 0) {
+    S.E.resize(0, 0);
+    return S;
   }
   // Elastic columns, analytic (docs/engine-design.md): the d- and d'-derivatives of the body-level
-  // forces (F, M, Q), projected on the rows as in residual().
-  if (iv_d_ >= 0) {
-    const int nf = num_elastic();
-    const Eigen::Vector3d& w = k.w_E;
-    const Eigen::Matrix3d W = skew(w);
-    const auto& S1 = ffi_.S1();
-    const auto Dw = ffi_.inertia_tensor_jacobian(k.d, w);
-    const auto Hd = ffi_.rotation_coupling(k.d);
-    // d/dd'
-    const Eigen::MatrixXd dF_ddd = 2 * W * S1;
-    const Eigen::MatrixXd dM_ddd = Dw + W * Hd;
-    // d/dd
-    const Eigen::MatrixXd dF_dd = (skew(k.al_E) + W * W) * S1;
-    const Eigen::MatrixXd dM_dd = -skew(k.a_E) * S1 + ffi_.inertia_tensor_jacobian(k.d, k.al_E) +
-                                  ffi_.rotation_coupling_jacobian(k.ddd) + W * Dw +
-                                  ffi_.inertia_rate_jacobian(k.dd, w) +
-                                  W * ffi_.rotation_coupling_jacobian(k.dd);
-    Eigen::SparseMatrix<double> dQ_dd = ffi_.gyroscopic(k.al_E) + ffi_.centrifugal_stiffness(w);
-    if (app_.fidelity == Fidelity::kNonlinear) {
-      Eigen::SparseMatrix<double> KT;
-      app_.model->internal_force(k.d, nullptr, &KT);
-      dQ_dd += KT;
-    } else {
-      dQ_dd += app_.model->stiffness();
+  // forces (F, M, Q), projected on the rows as in inertial_residual().
+  const Eigen::Vector3d& w = k.w_E;
+  const Eigen::Matrix3d W = skew(w);
+  const auto& S1 = ffi_.S1();
+  const auto Dw = ffi_.inertia_tensor_jacobian(k.d, w);
+  const auto Hd = ffi_.rotation_coupling(k.d);
+  const Eigen::MatrixXd dF_ddd = 2 * W * S1;
+  const Eigen::MatrixXd dM_ddd = Dw + W * Hd;
+  const Eigen::MatrixXd dF_dd = (skew(k.al_E) + W * W) * S1;
+  const Eigen::MatrixXd dM_dd = -skew(k.a_E) * S1 + ffi_.inertia_tensor_jacobian(k.d, k.al_E) +
+                                ffi_.rotation_coupling_jacobian(k.ddd) + W * Dw +
+                                ffi_.inertia_rate_jacobian(k.dd, w) +
+                                W * ffi_.rotation_coupling_jacobian(k.dd);
+  // Elastic block: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) + G_w(w) + K_T), with
+  // G_y(x) = sum_i x_j M_ik - x_k M_ij (i, j, k cyclic) and G_w(w) = sum w_i w_l M_il - |w|^2 M_ii.
+  Eigen::VectorXd vals = c_a * M_vals_;
+  const Eigen::Vector3d x = 2 * c_v * w + c_q * k.al_E;
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, l = (i + 2) % 3;
+    vals += x(j) * Mij_vals_[3 * i + l] - x(l) * Mij_vals_[3 * i + j];
+    for (int m = 0; m < 3; ++m)
+      vals += c_q * (w(i) * w(m) - (i == m ? w.squaredNorm() : 0.0)) * Mij_vals_[3 * i + m];
+  }
+  if (app_.fidelity == Fidelity::kNonlinear) {
+    Eigen::SparseMatrix<double> KT;
+    app_.model->internal_force(k.d, nullptr, &KT);  // K_L + K_L* + K_s, Eq. 19, 22, 23
+    block_->add(KT, c_q, vals);
+  } else {
+    vals += c_q * K_vals_;
+  }
+  S.E = block_->with_values(vals);
+  const Eigen::MatrixXd FB = k.R_BE * (c_v * dF_ddd + c_q * dF_dd);  // (3 x ndof)
+  const Eigen::MatrixXd MB = k.R_BE * (c_v * dM_ddd + c_q * dM_dd);
+  for (int c = 0; c < nf; ++c) {
+    const int e = free_[c];
+    const Eigen::Vector3d Fe = FB.col(e), Me = MB.col(e);
+    if (base_.free) {
+      S.B.block<3, 1>(0, c) += k.R_WB * Fe;
+      S.B.block<3, 1>(3, c) += hinge_.point_B.cross(Fe) + Me;
     }
-    const Eigen::SparseMatrix<double> dQ = c_v * 2.0 * ffi_.gyroscopic(w) + c_q * dQ_dd;
-    const Eigen::MatrixXd dF = c_v * dF_ddd + c_q * dF_dd;  // (3 x ndof)
-    const Eigen::MatrixXd dM = c_v * dM_ddd + c_q * dM_dd;
-    const Eigen::MatrixXd FB = k.R_BE * dF, MB = k.R_BE * dM;
-    const Eigen::MatrixXd Q = Eigen::MatrixXd(fem::restrict(dQ, free_));
-    for (int c = 0; c < nf; ++c) {
-      const int col = iv_d_ + c, e = free_[c];
-      const Eigen::Vector3d Fe = FB.col(e), Me = MB.col(e);
-      if (base_.free) {
-        S.block<3, 1>(0, col) += k.R_WB * Fe;
-        S.block<3, 1>(3, col) += hinge_.point_B.cross(Fe) + Me;
-      }
-      if (iv_theta_ >= 0) S(iv_theta_, col) += hinge_.axis_B.dot(Me);
-      S.block(iv_d_, col, nf, 1) += Q.col(c);
-    }
+    if (iv_theta_ >= 0) S.B(iv_theta_, c) += hinge_.axis_B.dot(Me);
   }
   return S;
+}
+
+Eigen::Matrix<double, 6, 1> HingedSystem::frame_momentum(const Kin& k) const {
+  const Eigen::Vector3d s = ffi_.first_moment(k.d);
+  Eigen::Matrix<double, 6, 1> p = hinge_.fitting.momentum(k.V_E, k.w_E);
+  p.head<3>() += ffi_.mass() * k.V_E + k.w_E.cross(s) + ffi_.S1() * k.dd;
+  p.tail<3>() += s.cross(k.V_E) + ffi_.inertia_tensor(k.d) * k.w_E + ffi_.rotation_coupling(k.d) * k.dd;
+  return p;
+}
+
+HingedSystem::Momenta HingedSystem::momenta(const Kin& k) const {
+  Momenta m;
+  const auto pb = base_.inertia.momentum(k.V_B, k.w_B);
+  const Eigen::Vector3d P_base_W = k.R_WB * pb.head<3>();
+  m.H_base_W = k.r_W.cross(P_base_W) + k.R_WB * pb.tail<3>();
+  const auto pE = frame_momentum(k);
+  const Eigen::Vector3d r_O = k.r_W + k.R_WB * hinge_.point_B;
+  m.P_W = P_base_W + k.R_WE * pE.head<3>();
+  m.H_W = m.H_base_W + r_O.cross(k.R_WE * pE.head<3>()) + k.R_WE * pE.tail<3>();
+  return m;
+}
+
+Eigen::VectorXd HingedSystem::momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
+  const Momenta m = momenta(kinematics(q, v, nullptr, 0.0));
+  Eigen::VectorXd Pi(6);
+  Pi << m.P_W, m.H_W;
+  return Pi;
+}
+
+Eigen::MatrixXd HingedSystem::momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                                double c_v, double c_q) const {
+  const int nf = num_elastic(), nb = nv_ - nf;
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6, nv_);
+  // Border columns: Pi is linear in v (a unit central difference is exact); q by differences.
+  for (int j = 0; j < nb; ++j) {
+    const Eigen::VectorXd e = Eigen::VectorXd::Unit(nv_, j);
+    J.col(j) = c_v * 0.5 * (momentum(q, v + e) - momentum(q, v - e)) +
+               c_q * (momentum(retract(q, 1e-7 * e), v) - momentum(retract(q, -1e-7 * e), v)) / 2e-7;
+  }
+  if (!nf) return J;
+  const Kin k = kinematics(q, v, nullptr, 0.0);
+  const Eigen::Vector3d r_O = k.r_W + k.R_WB * hinge_.point_B;
+  const auto& S1 = ffi_.S1();
+  // d(p_E, h_E)/d(dd) = (S1, H(d)); d(p_E, h_E)/dd = (w~ S1, -V~ S1 + dJ w/dd + dH dd'/dd).
+  const Eigen::MatrixXd dp = c_v * S1 + c_q * skew(k.w_E) * S1;
+  const Eigen::MatrixXd dh = c_v * ffi_.rotation_coupling(k.d) +
+                             c_q * (-skew(k.V_E) * S1 + ffi_.inertia_tensor_jacobian(k.d, k.w_E) +
+                                    ffi_.rotation_coupling_jacobian(k.dd));
+  const Eigen::MatrixXd dP_W = k.R_WE * dp;
+  const Eigen::MatrixXd dH_W = skew(r_O) * dP_W + k.R_WE * dh;
+  for (int c = 0; c < nf; ++c) {
+    J.block<3, 1>(0, nb + c) = dP_W.col(free_[c]);
+    J.block<3, 1>(3, nb + c) = dH_W.col(free_[c]);
+  }
+  return J;
 }
 
 HingedSystem::Outputs HingedSystem::outputs(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
@@ -257,16 +356,12 @@ HingedSystem::Outputs HingedSystem::outputs(const Eigen::VectorXd& q, const Eige
   o.theta = k.theta;
   o.theta_rate = k.rate;
   o.spring_torque = hinge_.tau0 - hinge_.k_theta * k.theta;
-  const Eigen::Vector3d s = ffi_.first_moment(k.d);
-  const Eigen::Vector3d p_E = ffi_.mass() * k.V_E + k.w_E.cross(s) + ffi_.S1() * k.dd;
-  const Eigen::Vector3d h_E = s.cross(k.V_E) + ffi_.inertia_tensor(k.d) * k.w_E +
-                              ffi_.rotation_coupling(k.d) * k.dd;  // about E's origin
-  const Eigen::Vector3d r_O = k.r_W + k.R_WB * hinge_.point_B;
-  const Eigen::Vector3d p_B = base_.mass * k.v_W;
-  o.H_base_W = k.r_W.cross(p_B) + k.R_WB * (base_.inertia * k.w_B);
-  o.P_W = p_B + k.R_WE * p_E;
-  o.H_W = o.H_base_W + r_O.cross(k.R_WE * p_E) + k.R_WE * h_E;
-  o.kinetic = 0.5 * base_.mass * k.v_W.squaredNorm() + 0.5 * k.w_B.dot(base_.inertia * k.w_B) +
+  const Momenta m = momenta(k);
+  o.P_W = m.P_W;
+  o.H_W = m.H_W;
+  o.H_base_W = m.H_base_W;
+  o.kinetic = (base_.free ? base_.inertia.kinetic_energy(k.V_B, k.w_B) : 0.0) +
+              hinge_.fitting.kinetic_energy(k.V_E, k.w_E) +
               ffi_.kinetic_energy(k.V_E, k.w_E, k.d, k.dd);
   o.potential = -hinge_.tau0 * k.theta + 0.5 * hinge_.k_theta * k.theta * k.theta;
   if (iq_d_ >= 0) {

@@ -7,14 +7,20 @@
 // Coordinates, in this order, each block present only when the scene needs it:
 //   q = [r_W (3), quaternion of R_WB (w, x, y, z)] [theta] [d (free elastic dofs)]
 //   v = [v_W (3), w_B (3)]                          [theta'] [d']
-// The base frame B has its origin at the base's centre of mass. theta is the hinge travel from
-// the stowed position (rad); a driven hinge has no coordinate: theta(t) is prescribed.
+// B's origin is the base's reference point (its centroid, say; the centre of mass may be offset,
+// e.g. by a yoke fixed to the base). theta is the hinge travel from the stowed position (rad); a
+// driven hinge has no coordinate: theta(t) is prescribed. The border of the Newton matrix is the
+// rigid block [base, theta]; the elastic block is sparse.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <array>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "deployfx/body/floating_frame_inertia.hpp"
+#include "deployfx/body/rigid_inertia.hpp"
+#include "deployfx/fem/free_block.hpp"
 #include "deployfx/fem/shell_model.hpp"
 #include "deployfx/integrate/second_order_system.hpp"
 
@@ -24,8 +30,7 @@ enum class Fidelity { kRigid, kLinear, kNonlinear };
 
 struct BaseSpec {
   bool free = true;
-  double mass = 1.0;                                    ///< kg
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  ///< about the centre of mass, B axes, kg m^2
+  body::RigidInertia inertia;  ///< in B (everything rigidly fixed to the base: body, yoke)
 };
 
 /// Prescribed hinge travel of Kane, Ryan & Banerjee (1987): rate
@@ -45,6 +50,10 @@ struct HingeSpec {
   double c_theta = 0;   ///< viscous damping, N m s/rad
   bool driven = false;  ///< theta(t) from `driver` instead of a coordinate
   SpinUpDriver driver;
+  /// The hinge fitting: the rigid part that turns with E and carries the appendage's root (the
+  /// spring, damper and lock act on it), in E. Without it the spring's preload acts on a massless
+  /// frame and drives a stiff, mesh-dependent root mode (docs/engine-design.md).
+  body::RigidInertia fitting;
 };
 
 struct AppendageSpec {
@@ -63,9 +72,15 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   Eigen::VectorXd retract(const Eigen::VectorXd& q, const Eigen::VectorXd& dq) const override;
   Eigen::VectorXd residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                            const Eigen::VectorXd& a, double t) const override;
-  Eigen::MatrixXd iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                   const Eigen::VectorXd& a, double t, double c_a, double c_v,
-                                   double c_q) const override;
+  integrate::BlockMatrix iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                          const Eigen::VectorXd& a, double t, double c_a,
+                                          double c_v, double c_q) const override;
+  /// A free base conserves [P_W; H_W] (total linear momentum, angular momentum about W's origin)
+  /// unless a driver prescribes theta(t) (then Pi would depend on t).
+  int num_conserved() const override { return base_.free && !hinge_.driven ? 6 : 0; }
+  Eigen::VectorXd momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const override;
+  Eigen::MatrixXd momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
+                                    double c_q) const override;
 
   /// The initial configuration: base at rest at the origin, theta = 0, d = 0.
   Eigen::VectorXd initial_positions() const;
@@ -83,7 +98,13 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   Kin kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd* a,
                  double t) const;
   Eigen::VectorXd full(const Eigen::VectorXd& d_free) const;
-  Eigen::MatrixXd mass_matrix(const Kin& k) const;
+  // r without the elastic internal force (which depends on d only).
+  Eigen::VectorXd inertial_residual(const Kin& k, const Eigen::VectorXd& q) const;
+  // E's momentum (appendage and fitting) about E's origin, E axes: (p_E, h_E).
+  Eigen::Matrix<double, 6, 1> frame_momentum(const Kin& k) const;
+  struct Momenta { Eigen::Vector3d P_W, H_W, H_base_W; };
+  Momenta momenta(const Kin& k) const;
+  void add_mass_matrix(const Kin& k, double c_a, integrate::BlockMatrix& S) const;
 
   BaseSpec base_;
   HingeSpec hinge_;
@@ -91,7 +112,11 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   body::FloatingFrameInertia ffi_;
   std::vector<int> free_;
   Eigen::SparseMatrix<double> K_free_;  // K_L on the free dofs
-  Eigen::MatrixXd M_free_;              // L_c on the free dofs (the mass matrix's elastic block)
+  // The elastic block of the Newton matrix on the mesh's node-block pattern, with the entries of
+  // L_c, K_L and the nine M_ij aligned to it (a combination is a sum of value arrays).
+  std::optional<fem::FreeBlock> block_;
+  Eigen::VectorXd M_vals_, K_vals_;
+  std::array<Eigen::VectorXd, 9> Mij_vals_;
   int nq_ = 0, nv_ = 0;
   int iq_theta_ = -1, iv_theta_ = -1, iq_d_ = -1, iv_d_ = -1;  // block offsets (-1: absent)
 };

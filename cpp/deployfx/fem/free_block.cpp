@@ -1,0 +1,57 @@
+#include "deployfx/fem/free_block.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "deployfx/fem/constrained_solve.hpp"
+
+namespace deployfx::fem {
+
+FreeBlock::FreeBlock(const SparseMatrix& pattern, const std::vector<int>& free)
+    : index_(pattern.rows(), -1) {
+  if (!pattern.isCompressed()) throw std::logic_error("FreeBlock: the pattern must be compressed");
+  for (int k = 0; k < static_cast<int>(free.size()); ++k) index_[free[k]] = k;
+  block_ = restrict(pattern, free);
+  block_.makeCompressed();
+  std::fill(block_.valuePtr(), block_.valuePtr() + block_.nonZeros(), 0.0);
+  pattern_nnz_ = pattern.nonZeros();
+  slots_.reserve(pattern_nnz_);
+  for (int c = 0; c < pattern.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(pattern, c); it; ++it) slots_.push_back(slot(it.row(), it.col()));
+}
+
+Eigen::Index FreeBlock::slot(int row, int col) const {
+  const int r = index_[row], c = index_[col];
+  if (r < 0 || c < 0) return -1;
+  const int* begin = block_.innerIndexPtr() + block_.outerIndexPtr()[c];
+  const int* end = block_.innerIndexPtr() + block_.outerIndexPtr()[c + 1];
+  const int* p = std::lower_bound(begin, end, r);
+  if (p == end || *p != r) throw std::logic_error("FreeBlock: entry outside the pattern");
+  return p - block_.innerIndexPtr();
+}
+
+Eigen::VectorXd FreeBlock::aligned(const SparseMatrix& A) const {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(nonzeros());
+  for (int c = 0; c < A.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(A, c); it; ++it) {
+      const Eigen::Index s = slot(it.row(), it.col());
+      if (s >= 0) v(s) += it.value();
+    }
+  return v;
+}
+
+void FreeBlock::add(const SparseMatrix& A, double coef, Eigen::VectorXd& values) const {
+  if (!A.isCompressed() || A.nonZeros() != pattern_nnz_)
+    throw std::logic_error("FreeBlock::add: the matrix's pattern differs from the block's");
+  const double* a = A.valuePtr();
+  for (Eigen::Index k = 0; k < pattern_nnz_; ++k)
+    if (slots_[k] >= 0) values(slots_[k]) += coef * a[k];
+}
+
+FreeBlock::SparseMatrix FreeBlock::with_values(const Eigen::VectorXd& values) const {
+  SparseMatrix S = block_;
+  std::copy(values.data(), values.data() + values.size(), S.valuePtr());
+  return S;
+}
+
+}  // namespace deployfx::fem

@@ -1,0 +1,36 @@
+#pragma once
+// The Newton iteration matrix of a multibody system with flexible bodies: a few rigid-body rows
+// and columns (base, hinges) bordering a large sparse elastic block,
+//   S = [ A  B ]   A: nb x nb, B: nb x ne (dense)
+//       [ C  E ]   C: ne x nb (dense), E: ne x ne (sparse, the elastic dofs),
+// solved by the Schur complement on the border (architecture.md, "Performance shape").
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace deployfx::integrate {
+
+struct BlockMatrix {
+  Eigen::MatrixXd A, B, C;
+  Eigen::SparseMatrix<double> E;
+
+  int border() const { return static_cast<int>(A.rows()); }
+  int elastic() const { return static_cast<int>(E.rows()); }
+  int size() const { return border() + elastic(); }
+  /// The assembled matrix (tests and small systems).
+  Eigen::MatrixXd dense() const {
+    Eigen::MatrixXd S(size(), size());
+    S << A, B, C, Eigen::MatrixXd(E);
+    return S;
+  }
+  /// A matrix with only a dense border (no elastic block).
+  static BlockMatrix from_dense(Eigen::MatrixXd S) {
+    BlockMatrix m;
+    m.A = std::move(S);
+    m.B.resize(m.A.rows(), 0);
+    m.C.resize(0, m.A.cols());
+    m.E.resize(0, 0);
+    return m;
+  }
+};
+
+}  // namespace deployfx::integrate
