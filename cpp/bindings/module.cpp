@@ -9,6 +9,7 @@ void define_fem(py::module_& m);
 void define_body(py::module_& m);
 void define_integrate(py::module_& m);
 void define_system(py::module_& m);
+void define_contact(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "deployfx compiled core (private; use the deployfx package)";
@@ -17,4 +18,5 @@ PYBIND11_MODULE(_core, m) {
   define_body(m);
   define_integrate(m);
   define_system(m);
+  define_contact(m);
 }

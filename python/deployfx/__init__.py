@@ -6,7 +6,8 @@ The structural core: laminated materials (:class:`Isotropic`, :class:`Orthotropi
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import Plate, ShellModel
-from . import integrators, paper2016
+from . import contact, integrators, paper2016
 
-__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "integrators", "paper2016"]
+__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "contact",
+           "integrators", "paper2016"]
 __version__ = "0.1.0"
