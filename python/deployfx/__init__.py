@@ -6,8 +6,9 @@ The structural core: laminated materials (:class:`Isotropic`, :class:`Orthotropi
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import Plate, ShellModel
-from . import contact, integrators, paper2016
+from . import contact, integrators, metrics, paper2016
+from .results import Result, load
 
-__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "contact",
-           "integrators", "paper2016"]
+__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Result", "load",
+           "contact", "integrators", "metrics", "paper2016"]
 __version__ = "0.1.0"

@@ -1,0 +1,320 @@
+"""Results of a simulation: named time series as read-only numpy arrays, their units, metadata.
+
+A :class:`Result` is what ``simulate()`` returns. It is generic: the series depend on the scene.
+The paper's scene (You et al. 2016) records
+
+============================  ========  =========  ==============================================
+name                          unit      shape      meaning
+============================  ========  =========  ==============================================
+``t``                         s         (n,)       time, strictly increasing
+``deployment_angle``          deg       (n,)       yoke-appendage angle, 90 stowed, 180 deployed
+``spring_torque``             N m       (n,)       hinge spring torque
+``lock_force``                N         (n,)       normal contact force of the lock (>= 0)
+``node_E_deflection``         m         (n,)       transverse deflection of node E (appendage frame)
+``body_attitude``             deg       (n, 3)     attitude angles of the spacecraft body
+``body_angular_momentum``     N m s     (n, 3)     angular momentum of the body
+``total_angular_momentum``    N m s     (n, 3)     angular momentum of the whole system
+============================  ========  =========  ==============================================
+
+Metadata is a JSON-compatible dict. Keys the engine writes: ``scene`` (parameters), ``model``
+(``"rigid"``, ``"linear"``, ``"nonlinear"``), ``dt`` (s), ``integrator``, ``wall_time_s`` (s),
+``steps`` (integration steps taken) and, when a run stopped early, ``failure`` (the message).
+
+``save(path)`` writes one ``.npz`` (no pickle); :func:`load` reads it back bit for bit.
+"""
+from __future__ import annotations
+
+import copy
+import json
+import keyword
+import math
+import os
+from pathlib import Path
+from typing import Any, Mapping, Optional, Union
+
+import numpy as np
+
+from . import metrics
+from .metrics import _as_time
+
+PathLike = Union[str, os.PathLike]
+
+_FORMAT = "deployfx.Result"
+_VERSION = 1
+_HEADER = "deployfx_header"  # archive entry of the JSON header
+_PREFIX = "series/"  # archive entries of the arrays; never collides with np.savez's parameters
+
+#: Keys of :meth:`Result.summary`, in order.
+SUMMARY_KEYS = ("first_lock_time_s", "impacts", "peak_lock_force_N", "settling_time_s",
+                "max_node_E_deflection_m", "body_attitude_change_deg", "momentum_drift",
+                "steps", "wall_time_s")
+
+
+class Result:
+    """Named time series of one run, with units and metadata.
+
+    Parameters
+    ----------
+    series
+        Mapping of name to array. ``"t"`` (s, 1-D, finite, strictly increasing) is required; every
+        other series has leading dimension ``len(t)``. Values must be finite real numbers. Names
+        are Python identifiers not starting with ``_`` and not clashing with Result's own
+        attributes, so each series is also an attribute: ``result.deployment_angle``.
+    units
+        Mapping of series name to unit string, e.g. ``{"deployment_angle": "deg"}``; ``t`` is
+        ``"s"`` unless given. Series without an entry have no stated unit.
+    metadata
+        JSON-compatible mapping (str keys; None, bool, int, finite float, str, lists, dicts; numpy
+        scalars and arrays are converted to Python numbers and lists).
+
+    The arrays are copies of the inputs, marked read-only, so a result cannot be altered silently;
+    ``t`` is stored as float64, other series keep their dtype. Bad shapes or values raise
+    ``ValueError``, wrong types ``TypeError``, each naming the series, unit or metadata key.
+    """
+
+    def __init__(self, series: Mapping[str, Any], units: Optional[Mapping[str, str]] = None,
+                 metadata: Optional[Mapping[str, Any]] = None):
+        if not isinstance(series, Mapping):
+            raise TypeError(f"series must be a mapping of name to array, "
+                            f"got {type(series).__name__}")
+        if "t" not in series:
+            raise ValueError(f"series must contain 't' (time, s), got {sorted(series)}")
+        t = _frozen(_as_time(series["t"]).copy())
+        arrays = {"t": t}
+        for name, value in series.items():
+            if name == "t":
+                continue
+            _check_name(name)
+            a = np.array(value, copy=True)
+            if a.dtype.kind not in "biuf":
+                raise ValueError(f"series {name!r} must hold real numbers, got dtype {a.dtype}")
+            if a.ndim == 0 or a.shape[0] != t.size:
+                raise ValueError(f"series {name!r} must have leading dimension len(t) = {t.size}, "
+                                 f"got shape {a.shape}")
+            metrics._check_finite(f"series {name!r}", a)
+            arrays[name] = _frozen(a)
+        self._series = arrays
+        self._units = _check_units(units, arrays)
+        self._metadata = _to_json_value(dict(metadata or {}), "metadata")
+
+    @property
+    def series(self) -> tuple[str, ...]:
+        """Names of the series, ``"t"`` first."""
+        return tuple(self._series)
+
+    @property
+    def units(self) -> dict[str, str]:
+        """Unit of each series that has one, e.g. ``{"t": "s", "lock_force": "N"}`` (a copy)."""
+        return dict(self._units)
+
+    @property
+    def metadata(self) -> dict[str, Any]:
+        """Run metadata (a deep copy; see the module docstring for the keys the engine writes)."""
+        return copy.deepcopy(self._metadata)
+
+    @property
+    def failure(self) -> Optional[str]:
+        """The message of a run that stopped early, None for a complete run."""
+        return self._metadata.get("failure")
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        series = self.__dict__.get("_series")
+        if series is not None and name in series:
+            return series[name]
+        raise AttributeError(f"Result has no series {name!r}; it has {', '.join(series or ())}")
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """The series ``name`` (read-only array)."""
+        try:
+            return self._series[name]
+        except KeyError:
+            raise KeyError(f"Result has no series {name!r}; "
+                           f"it has {', '.join(self._series)}") from None
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._series
+
+    def __dir__(self) -> list[str]:
+        return sorted(set(super().__dir__()) | set(self._series))
+
+    def __repr__(self) -> str:
+        t = self._series["t"]
+        parts = []
+        for name, a in self._series.items():
+            if name == "t":
+                continue
+            shape = "" if a.ndim == 1 else "[" + "x".join(map(str, a.shape[1:])) + "]"
+            unit = f" ({self._units[name]})" if name in self._units else ""
+            parts.append(f"{name}{shape}{unit}")
+        span = f"t = {t[0]:g} .. {t[-1]:g} {self._units.get('t', '')}".rstrip()
+        text = f"Result({t.size} samples, {span}; series: {', '.join(parts) or 'none'}"
+        if "model" in self._metadata:
+            text += f"; model={self._metadata['model']!r}"
+        if self.failure is not None:
+            text += f"; stopped early: {self.failure}"
+        return text + ")"
+
+    def save(self, path: PathLike) -> Path:
+        """Write the result to one ``.npz`` file at exactly ``path``; returns the path.
+
+        Arrays are stored as they are (lossless); units, metadata and the series order as a JSON
+        header inside the archive. Nothing is pickled.
+        """
+        header = json.dumps({"format": _FORMAT, "version": _VERSION, "series": list(self._series),
+                             "units": self._units, "metadata": self._metadata}, allow_nan=False)
+        path = Path(path)
+        with open(path, "wb") as fh:
+            entries = {_PREFIX + name: a for name, a in self._series.items()}
+            np.savez(fh, **{_HEADER: np.array(header)}, **entries)
+        return path
+
+    def to_dataframe(self):
+        """A pandas DataFrame indexed by ``t`` (s), one column per scalar series; vector series
+        become ``name_x``, ``name_y``, ``name_z`` (3 components) or ``name[0]``, ``name[1]``, ...
+        (``name[i,j]`` for higher ranks). ``df.attrs["units"]`` maps each column to its unit.
+        """
+        try:
+            import pandas as pd
+        except ImportError as exc:
+            raise ImportError("Result.to_dataframe needs pandas: pip install pandas "
+                              "(or pip install 'deployfx[test]')") from exc
+        columns: dict[str, np.ndarray] = {}
+        units: dict[str, str] = {}
+        for name, a in self._series.items():
+            if name == "t":
+                continue
+            for column, values in _columns(name, a):
+                if column in columns:
+                    raise ValueError(f"series {name!r} gives column {column!r}, which another "
+                                     "series already uses")
+                columns[column] = values
+                if name in self._units:
+                    units[column] = self._units[name]
+        index = pd.Index(np.array(self._series["t"]), name="t")
+        df = pd.DataFrame({c: np.array(v) for c, v in columns.items()}, index=index)
+        df.attrs["units"] = units
+        return df
+
+    def summary(self) -> dict[str, Any]:
+        """Metrics of the run computed from its series (see :mod:`deployfx.metrics`), in the order
+        of ``SUMMARY_KEYS``. Every key is always present; a value is None when the series it
+        needs is absent or the metric is undefined (e.g. the hinge never locks).
+
+        - ``first_lock_time_s`` (s): first sample with ``lock_force`` > 0, or, without a lock
+          force, the first time ``deployment_angle`` reaches 180 deg (interpolated).
+        - ``impacts``: number of separate contacts in ``lock_force`` (chatter shorter than 0.05 s
+          merged, contacts below 1e-3 of the peak dropped).
+        - ``peak_lock_force_N`` (N): max of ``lock_force``.
+        - ``settling_time_s`` (s): ``deployment_angle`` within 0.1 deg of its final value and
+          ``lock_force`` within 1 % of its peak of its final value from then on, for at least 1 s.
+        - ``max_node_E_deflection_m`` (m): max |``node_E_deflection``|.
+        - ``body_attitude_change_deg`` (deg): |``body_attitude``[-1] - ``body_attitude``[0]|.
+        - ``momentum_drift``: max |H - H(0)| / max |H_b - H_b(0)| from ``total_angular_momentum``
+          and ``body_angular_momentum``.
+        - ``steps``, ``wall_time_s`` (s): from the metadata.
+        """
+        s = self._series
+        t = s["t"]
+        force, angle = s.get("lock_force"), s.get("deployment_angle")
+        out: dict[str, Any] = dict.fromkeys(SUMMARY_KEYS)
+        if force is not None or angle is not None:
+            out["first_lock_time_s"] = metrics.first_lock_time(t, force, angle)
+        if force is not None:
+            out["impacts"] = metrics.impact_count(t, force)
+            out["peak_lock_force_N"] = metrics.peak_lock_force(force)
+        if angle is not None:
+            out["settling_time_s"] = metrics.lock_settling_time(t, angle, force)
+        if "node_E_deflection" in s:
+            out["max_node_E_deflection_m"] = metrics.max_abs(s["node_E_deflection"],
+                                                             "node_E_deflection")
+        if "body_attitude" in s:
+            out["body_attitude_change_deg"] = metrics.attitude_change(s["body_attitude"])
+        if "total_angular_momentum" in s and "body_angular_momentum" in s:
+            out["momentum_drift"] = metrics.momentum_drift(s["total_angular_momentum"],
+                                                           s["body_angular_momentum"])
+        out["steps"] = self._metadata.get("steps")
+        out["wall_time_s"] = self._metadata.get("wall_time_s")
+        return out
+
+
+def load(path: PathLike) -> Result:
+    """Read a :class:`Result` written by :meth:`Result.save` (arrays bit for bit, same units,
+    metadata and series order). Refuses pickled content."""
+    with np.load(Path(path), allow_pickle=False) as archive:
+        if _HEADER not in archive.files:
+            raise ValueError(f"{path} is not a deployfx result file (no {_HEADER} entry)")
+        header = json.loads(str(archive[_HEADER]))
+        if header.get("format") != _FORMAT or not isinstance(header.get("version"), int):
+            raise ValueError(f"{path} is not a deployfx result file "
+                             f"(format {header.get('format')!r})")
+        if header["version"] > _VERSION:
+            raise ValueError(f"{path} has result format version {header['version']}; this deployfx "
+                             f"reads up to version {_VERSION}")
+        missing = [name for name in header["series"] if _PREFIX + name not in archive.files]
+        if missing:
+            raise ValueError(f"{path} is missing the series {missing}")
+        series = {name: archive[_PREFIX + name] for name in header["series"]}
+    return Result(series, header["units"], header["metadata"])
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
+def _check_name(name: object) -> None:
+    if not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name):
+        raise ValueError(f"series names must be Python identifiers, got {name!r}")
+    if name.startswith("_") or hasattr(Result, name):
+        raise ValueError(f"series name {name!r} is reserved (leading underscore or an attribute "
+                         "of Result)")
+
+
+def _check_units(units: Optional[Mapping[str, str]], arrays: Mapping[str, np.ndarray]) -> dict:
+    out = {"t": "s"}
+    for name, unit in dict(units or {}).items():
+        if name not in arrays:
+            raise ValueError(f"units names {name!r}, which is not a series; series: {list(arrays)}")
+        if not isinstance(unit, str):
+            raise TypeError(f"units[{name!r}] must be a string, "
+                            f"got {type(unit).__name__} {unit!r}")
+        out[name] = unit
+    return {name: out[name] for name in arrays if name in out}
+
+
+def _to_json_value(value: Any, where: str) -> Any:
+    """``value`` in the form JSON gives back (tuples as lists, numpy as Python); TypeError for
+    what JSON cannot hold, ValueError for NaN or inf."""
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    elif isinstance(value, np.generic):
+        value = value.item()
+    if value is None or isinstance(value, (bool, int, str)):
+        return value
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"{where} must be finite, got {value!r}")
+        return value
+    if isinstance(value, (list, tuple)):
+        return [_to_json_value(v, f"{where}[{k}]") for k, v in enumerate(value)]
+    if isinstance(value, Mapping):
+        out = {}
+        for key, v in value.items():
+            if not isinstance(key, str):
+                raise TypeError(f"{where} keys must be strings, got {key!r}")
+            out[key] = _to_json_value(v, f"{where}[{key!r}]")
+        return out
+    raise TypeError(f"{where} must be JSON-compatible (None, bool, int, float, str, list, dict), "
+                     f"got {type(value).__name__}")
+
+
+def _columns(name: str, a: np.ndarray):
+    """(column name, 1-D values) pairs of one series for a DataFrame."""
+    if a.ndim == 1:
+        yield name, a
+    elif a.shape[1:] == (3,):
+        for k, axis in enumerate("xyz"):
+            yield f"{name}_{axis}", a[:, k]
+    else:
+        for index in np.ndindex(*a.shape[1:]):
+            yield f"{name}[{','.join(map(str, index))}]", a[(slice(None),) + index]
