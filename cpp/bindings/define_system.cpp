@@ -4,15 +4,18 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "deployfx/integrate/generalized_alpha.hpp"
 #include "deployfx/integrate/trajectory.hpp"
+#include "deployfx/joint/hinge_lock.hpp"
 #include "deployfx/system/hinged_system.hpp"
 #include "trajectory_dict.hpp"
 
 namespace py = pybind11;
 using namespace deployfx::system;
 using deployfx::integrate::AlphaParameters;
+using deployfx::joint::HingeLockSpec;
 
 namespace {
 
@@ -36,6 +39,19 @@ Fidelity parse_fidelity(const std::string& s) {
 }  // namespace
 
 void define_system(py::module_& m) {
+  py::class_<HingeLockSpec>(m, "HingeLockSpec")
+      .def(py::init([](double theta_lock, double pin_radius, double clearance,
+                       const deployfx::contact::ContactLaw& law, double mu, double v_reg) {
+             HingeLockSpec l{theta_lock, pin_radius, clearance, law, deployfx::contact::CoulombFriction(mu, v_reg)};
+             l.validate();
+             return l;
+           }),
+           py::arg("theta_lock"), py::arg("pin_radius"), py::arg("clearance"), py::arg("law"),
+           py::arg("mu"), py::arg("v_reg"))
+      .def_readonly("theta_lock", &HingeLockSpec::theta_lock)
+      .def_readonly("pin_radius", &HingeLockSpec::pin_radius)
+      .def_readonly("clearance", &HingeLockSpec::clearance);
+
   py::class_<HingedSystem>(m, "HingedSystem")
       .def(py::init([](bool base_free, double base_mass, const Eigen::Matrix3d& base_inertia,
                        const Eigen::Vector3d& hinge_point, const Eigen::Vector3d& hinge_axis,
@@ -44,10 +60,12 @@ void define_system(py::module_& m) {
                        const deployfx::fem::ShellModel& model, std::vector<int> fixed_dofs,
                        const std::string& fidelity, const Eigen::Vector3d& base_com,
                        double fitting_mass, const Eigen::Vector3d& fitting_com,
-                       const Eigen::Matrix3d& fitting_inertia) {
+                       const Eigen::Matrix3d& fitting_inertia,
+                       std::optional<deployfx::joint::HingeLockSpec> lock) {
              BaseSpec b{base_free, {base_mass, base_com, base_inertia}};
              HingeSpec h;
              h.fitting = {fitting_mass, fitting_com, fitting_inertia};
+             h.lock = lock;
              h.point_B = hinge_point;
              h.axis_B = hinge_axis;
              h.R_BE0 = R_BE0;
@@ -64,7 +82,7 @@ void define_system(py::module_& m) {
            py::arg("k_theta"), py::arg("c_theta"), py::arg("spin_up"), py::arg("model"),
            py::arg("fixed_dofs"), py::arg("fidelity"), py::arg("base_com") = Eigen::Vector3d::Zero(),
            py::arg("fitting_mass") = 0.0, py::arg("fitting_com") = Eigen::Vector3d::Zero(),
-           py::arg("fitting_inertia") = Eigen::Matrix3d::Zero().eval())
+           py::arg("fitting_inertia") = Eigen::Matrix3d::Zero().eval(), py::arg("lock") = py::none())
       .def_property_readonly("num_positions", &HingedSystem::num_positions)
       .def_property_readonly("num_velocities", &HingedSystem::num_velocities)
       .def("initial_positions", &HingedSystem::initial_positions)
@@ -122,35 +140,37 @@ void define_system(py::module_& m) {
            double t_end, double dt, const AlphaParameters& p, bool reuse_jacobian) {
           check_sizes(sys, q0, v0);
           deployfx::integrate::Trajectory tr;
-          Eigen::MatrixXd P, H, Hb, scalars;
+          std::vector<HingedSystem::Outputs> out;
           long factorizations = 0;
           {
             py::gil_scoped_release release;
             deployfx::integrate::NewtonOptions newton;
             newton.reuse_jacobian = reuse_jacobian;
             const deployfx::integrate::GeneralizedAlpha integrator(sys, p, newton);
-            tr = deployfx::integrate::run_fixed_step(integrator, integrator.initial_state(0.0, q0, v0), t_end, dt);
+            sys.reset_history();
+            tr = deployfx::integrate::run_fixed_step(
+                integrator, integrator.initial_state(0.0, q0, v0), t_end, dt,
+                [&](const deployfx::integrate::AlphaState& s) { out.push_back(sys.outputs(s.q, s.v, s.t)); });
             factorizations = integrator.factorizations();
-            const Eigen::Index n = static_cast<Eigen::Index>(tr.t.size());
-            P.resize(n, 3), H.resize(n, 3), Hb.resize(n, 3), scalars.resize(n, 5);
-            for (Eigen::Index k = 0; k < n; ++k) {
-              const auto o = sys.outputs(tr.q[k], tr.v[k], tr.t[k]);
-              P.row(k) = o.P_W.transpose();
-              H.row(k) = o.H_W.transpose();
-              Hb.row(k) = o.H_base_W.transpose();
-              scalars.row(k) << o.theta, o.theta_rate, o.spring_torque, o.kinetic, o.potential;
-            }
+          }
+          const Eigen::Index n = static_cast<Eigen::Index>(out.size());
+          Eigen::MatrixXd P(n, 3), H(n, 3), Hb(n, 3), scalars(n, 7);
+          for (Eigen::Index k = 0; k < n; ++k) {
+            const auto& o = out[k];
+            P.row(k) = o.P_W.transpose();
+            H.row(k) = o.H_W.transpose();
+            Hb.row(k) = o.H_base_W.transpose();
+            scalars.row(k) << o.theta, o.theta_rate, o.spring_torque, o.kinetic, o.potential,
+                o.lock_force, o.lock_torque;
           }
           py::dict d = trajectory_dict(tr);
           d["factorizations"] = factorizations;
           d["linear_momentum"] = P;
           d["angular_momentum"] = H;
           d["base_angular_momentum"] = Hb;
-          d["theta"] = Eigen::VectorXd(scalars.col(0));
-          d["theta_rate"] = Eigen::VectorXd(scalars.col(1));
-          d["spring_torque"] = Eigen::VectorXd(scalars.col(2));
-          d["kinetic_energy"] = Eigen::VectorXd(scalars.col(3));
-          d["potential_energy"] = Eigen::VectorXd(scalars.col(4));
+          const char* names[] = {"theta", "theta_rate", "spring_torque", "kinetic_energy",
+                                 "potential_energy", "lock_force", "lock_torque"};
+          for (int c = 0; c < 7; ++c) d[names[c]] = Eigen::VectorXd(scalars.col(c));
           return d;
         },
         py::arg("system"), py::arg("q0"), py::arg("v0"), py::arg("t_end"), py::arg("dt"), py::arg("scheme"),

@@ -1,14 +1,18 @@
 """deployfx: deployment and locking dynamics of flexible laminated-composite appendages.
 
-The structural core: laminated materials (:class:`Isotropic`, :class:`Orthotropic`,
-:class:`Ply`, :class:`Laminate`) and the MITC4 laminated shell element on a rectangular
-:class:`Plate` or an arbitrary :class:`ShellModel` mesh. SI units throughout.
+- Structures: laminated materials (:class:`Isotropic`, :class:`Orthotropic`, :class:`Ply`,
+  :class:`Laminate`) and the MITC4 laminated shell on a :class:`Plate` or any :class:`ShellModel`.
+- Scenes: :class:`Scene` builds a base, hinge, fitting, appendage and lock into a :class:`Model`;
+  :mod:`deployfx.scenes` holds the paper's scene (``scenes.paper2016``) and the spin-up beam.
+- Results: :class:`Result` (series, units, ``summary()``, ``save``/:func:`load`), :mod:`plot`.
+SI units throughout.
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import Plate, ShellModel
-from . import contact, integrators, metrics, paper2016
+from . import contact, integrators, metrics, paper2016, scenes
 from .results import Result, load
+from .scene import Model, Scene
 
-__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Result", "load",
-           "contact", "integrators", "metrics", "paper2016"]
+__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model",
+           "Result", "load", "contact", "integrators", "metrics", "paper2016", "scenes"]
 __version__ = "0.1.0"

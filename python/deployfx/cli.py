@@ -1,12 +1,17 @@
-"""Command line: ``deployfx appendage`` (modal analysis of the paper's appendage).
+"""Command line for deployfx.
 
-The deployment simulation of You et al. (2016) (``deployfx run paper2016``) arrives with the
-multibody engine; until then the CLI exposes the structural model it will use.
+- ``deployfx run paper2016 --layup 2 --model nonlinear --t-end 30 --dt 0.01 --out DIR``: the
+  deployment and locking of You et al. (2016); writes ``summary.json``, ``timeseries.csv`` (one
+  per model) and the paper's figures; ``--model both`` overlays linear and nonlinear; ``--json``
+  prints the summary.
+- ``deployfx run spin-up-beam --omega-s 4``: the spin-up beam of Kane, Ryan & Banerjee (1987).
+- ``deployfx appendage``: modes of the paper's laminated appendage.
 """
 from __future__ import annotations
 
 import argparse
 import csv
+import json
 import sys
 from pathlib import Path
 from typing import Optional, Sequence
@@ -14,6 +19,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import paper2016
+from .integrators import SimulationError
 
 
 def _appendage(args: argparse.Namespace) -> int:
@@ -70,6 +76,77 @@ def _plot_modes(plate, f: np.ndarray, w: np.ndarray, path: Path) -> None:
     plt.close(fig)
 
 
+def _write_csv(result, path: Path) -> None:
+    df_cols = []
+    for name in result.series:
+        a = result[name]
+        unit = result.units.get(name, "")
+        if a.ndim == 1:
+            df_cols.append((f"{name} ({unit})", a))
+        else:
+            for j, axis in enumerate("xyz"[: a.shape[1]]):
+                df_cols.append((f"{name}_{axis} ({unit})", a[:, j]))
+    with open(path, "w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow([c for c, _ in df_cols])
+        for k in range(len(result.t)):
+            writer.writerow([f"{a[k]:.10g}" for _, a in df_cols])
+
+
+def _run(args: argparse.Namespace) -> int:
+    from . import scenes
+
+    results, labels = [], []
+    if args.scene == "paper2016":
+        models = ("linear", "nonlinear") if args.model == "both" else (args.model,)
+        for model in models:
+            scene = scenes.paper2016(args.layup, model, nx=args.nx, ny=args.ny)
+            if not args.json:
+                print(f"paper2016 lay-up {args.layup}, {model} model, {args.nx} x {args.ny} mesh: "
+                      f"{args.t_end:g} s at dt = {args.dt:g} s ...", flush=True)
+            try:
+                results.append(scene.simulate(args.t_end, args.dt))
+            except SimulationError as e:
+                print(f"deployfx: {model} run stopped: {e}", file=sys.stderr)
+                results.append(e.result)
+            labels.append(model)
+    else:
+        scene = scenes.spin_up_beam(args.omega_s, args.t_s, args.model if args.model != "both" else "nonlinear")
+        try:
+            results.append(scene.simulate(args.t_end, args.dt))
+        except SimulationError as e:
+            print(f"deployfx: run stopped: {e}", file=sys.stderr)
+            results.append(e.result)
+        labels.append(scene.model.fidelity)
+    summaries = {label: r.summary() for label, r in zip(labels, results)}
+    summary = summaries[labels[0]] if len(labels) == 1 else summaries
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        for label, s in summaries.items():
+            print(f"{label}:")
+            for key, value in s.items():
+                print(f"  {key}: {value:.6g}" if isinstance(value, float) else f"  {key}: {value}")
+    if args.out:
+        from . import plot
+
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        for label, r in zip(labels, results):
+            _write_csv(r, out / (f"timeseries_{label}.csv" if len(labels) > 1 else "timeseries.csv"))
+        if args.scene == "paper2016":
+            paths = plot.paper_figures(results, out, labels=labels)
+        else:
+            fig = plot.node_deflection(results, labels=labels, series="tip_deflection")
+            paths = [out / "tip_deflection.png"]
+            fig.savefig(paths[0], dpi=150)
+        if not args.json:
+            print(f"wrote {out / 'summary.json'}, the time series and {len(paths)} figures")
+    failed = [r for r in results if r.failure]
+    return 1 if failed else 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="deployfx", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
@@ -81,6 +158,21 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--modes", type=int, default=10, help="number of modes (default 10)")
     a.add_argument("--out", help="directory for appendage_frequencies.csv and appendage_modes.png")
     a.set_defaults(run=_appendage)
+
+    r = sub.add_parser("run", help="simulate a ready scene: paper2016 or spin-up-beam")
+    r.add_argument("scene", choices=("paper2016", "spin-up-beam"))
+    r.add_argument("--model", choices=("rigid", "linear", "nonlinear", "both"), default="nonlinear",
+                   help="appendage fidelity; both = linear and nonlinear overlaid (default nonlinear)")
+    r.add_argument("--layup", type=int, choices=(1, 2), default=2, help="paper2016: 1 [0/0/0/0], 2 [0/90/90/0]")
+    r.add_argument("--nx", type=int, default=paper2016.NX, help="paper2016: elements along the length")
+    r.add_argument("--ny", type=int, default=paper2016.NY, help="paper2016: elements across the width")
+    r.add_argument("--omega-s", type=float, default=4.0, help="spin-up-beam: final hub rate, rad/s")
+    r.add_argument("--t-s", type=float, default=15.0, help="spin-up-beam: spin-up time, s")
+    r.add_argument("--t-end", type=float, default=30.0, help="simulated time, s (default 30)")
+    r.add_argument("--dt", type=float, default=0.01, help="output and maximum step, s (default 0.01)")
+    r.add_argument("--out", help="directory for summary.json, the time series (CSV) and the figures")
+    r.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
+    r.set_defaults(run=_run)
     return p
 
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "deployfx/math/check.hpp"
@@ -73,7 +74,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
   // away cannot make its own increments look small.
   const double scale = std::max(1.0, s.vdot.lpNorm<Eigen::Infinity>());
   bool refactor = !newton_.reuse_jacobian || factor_h_ != h;
-  double previous = 0;
+  double previous = 0, previous_r = std::numeric_limits<double>::infinity();
   for (int it = 1; it <= newton_.max_iterations; ++it) {
     const Eigen::VectorXd a1 = a_of(vdot);
     const Eigen::VectorXd q1 = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a1));
@@ -105,7 +106,9 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
     // Contraction rate of the (possibly modified) Newton iteration; its error estimate
     // rho/(1 - rho) |dv| (Hairer & Wanner, Solving ODEs II, Sec. IV.8) decides convergence.
     const double error = rho > 0 && rho < 1 ? size * rho / (1 - rho) : size;
-    const bool stalled = fresh && rho > 0.5 && size <= newton_.floor * scale;  // round-off floor
+    const double r_norm = r.lpNorm<Eigen::Infinity>();
+    const bool stalled = it > 2 && r_norm > 0.5 * previous_r && size <= newton_.floor * scale;
+    previous_r = r_norm;
     if (error <= newton_.tolerance * scale || stalled) {
       const Eigen::VectorXd a_new = a_of(vdot);
       s.q = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a_new));

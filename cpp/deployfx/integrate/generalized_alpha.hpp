@@ -34,9 +34,10 @@ struct NewtonOptions {
   /// step accumulates in the energy at a rate independent of dt (1e-8 costs 5e-8 of the energy per
   /// second on the rigid deployment), hence 1e-10.
   double tolerance = 1e-10;
-  /// Accept once the increments stop shrinking (rate above 1/2 with a fresh matrix) below this:
-  /// the round-off floor of the acceleration solve (flexible bodies: about cond(M) eps).
-  double floor = 1e-7;
+  /// Accept, below this relative increment, once the residual stops falling (by less than half
+  /// an iteration): the round-off floor of the acceleration solve, about cond(M) eps (a light
+  /// hinge fitting against stiff root elements: 1e-7..1e-6).
+  double floor = 1e-5;
   /// Modified Newton: keep the factorized iteration matrix across iterations and steps while
   /// the iterations contract by at least `contraction` per iteration; refactor otherwise.
   bool reuse_jacobian = true;
@@ -65,6 +66,7 @@ class GeneralizedAlpha {
   /// Advances `s` by h. Throws StepFailure (the state is left unchanged) if Newton fails.
   /// Returns the number of Newton iterations.
   int step(AlphaState& s, double h) const;
+  const SecondOrderSystem& system() const { return sys_; }
   /// Numeric factorizations of the iteration matrix so far.
   long factorizations() const { return solver_.factorizations(); }
 

@@ -41,6 +41,19 @@ class SecondOrderSystem {
                                             double /*c_v*/, double /*c_q*/) const {
     return {};
   }
+
+  // Contacts and their history. A system with one-sided contacts reports their signed gaps
+  // (> 0 open) so the stepper can locate each closing in time, and keeps what the contacts
+  // remember (latches, onset speeds) as per-run history, updated only on accepted steps.
+  /// Signed gaps of the contacts that can close (empty: none).
+  virtual Eigen::VectorXd gaps(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/,
+                               double /*t*/) const {
+    return {};
+  }
+  /// Called after every accepted step.
+  virtual void accept(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/, double /*t*/) const {}
+  /// Forgets the history (called before a run).
+  virtual void reset_history() const {}
 };
 
 }  // namespace deployfx::integrate

@@ -65,7 +65,18 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
   if (!(hinge_.k_theta >= 0)) throw_out_of_range("hinge.k_theta", hinge_.k_theta, ">= 0 (N m/rad)");
   if (!(hinge_.c_theta >= 0)) throw_out_of_range("hinge.c_theta", hinge_.c_theta, ">= 0 (N m s/rad)");
   if (hinge_.driven) require_positive("driver.t_s", hinge_.driver.t_s, "(s)");
-  if (app_.fidelity != Fidelity::kRigid) {
+  if (hinge_.lock) hinge_.lock->validate();
+  flexible_ = app_.fidelity != Fidelity::kRigid;
+  frame_rigid_ = hinge_.fitting;
+  if (!flexible_) {
+    // The undeformed appendage as a rigid body, merged with the fitting (parallel axes).
+    const double m = ffi_.mass() + frame_rigid_.mass;
+    const Eigen::Vector3d s = ffi_.S0() + frame_rigid_.first_moment();
+    const Eigen::Matrix3d J_O = ffi_.J0() + frame_rigid_.inertia_origin();
+    const Eigen::Vector3d c = s / m;
+    frame_rigid_ = {m, c, J_O - m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose())};
+  }
+  if (flexible_) {
     free_ = fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs);
     K_free_ = fem::restrict(app_.model->stiffness(), free_);
     // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
@@ -150,8 +161,10 @@ HingedSystem::Kin HingedSystem::kinematics(const Eigen::VectorXd& q, const Eigen
 
 Eigen::VectorXd HingedSystem::inertial_residual(const Kin& k, const Eigen::VectorXd& q) const {
   (void)q;
-  const auto f = ffi_.inertial_forces(k.a_E, k.al_E, k.w_E, k.d, k.dd, k.ddd);
-  const auto fit = hinge_.fitting.inertial_forces(k.a_E, k.al_E, k.w_E);
+  body::FloatingFrameInertia::InertialForces f;
+  if (flexible_) f = ffi_.inertial_forces(k.a_E, k.al_E, k.w_E, k.d, k.dd, k.ddd);
+  else f.F.setZero(), f.M.setZero();
+  const auto fit = frame_rigid_.inertial_forces(k.a_E, k.al_E, k.w_E);
   // On the appendage and its fitting, about E's origin, B axes.
   const Eigen::Vector3d F_B = k.R_BE * (f.F + fit.head<3>()), M_B = k.R_BE * (f.M + fit.tail<3>());
   Eigen::VectorXd r(nv_);
@@ -161,9 +174,11 @@ Eigen::VectorXd HingedSystem::inertial_residual(const Kin& k, const Eigen::Vecto
     r.head<3>() = k.R_WB * (fb.head<3>() + F_B);
     r.segment<3>(3) = fb.tail<3>() + hinge_.point_B.cross(F_B) + M_B;
   }
-  if (iv_theta_ >= 0)
+  if (iv_theta_ >= 0) {
     r(iv_theta_) = hinge_.axis_B.dot(M_B) - (hinge_.tau0 - hinge_.k_theta * k.theta) +
                    hinge_.c_theta * k.rate;
+    if (hinge_.lock) r(iv_theta_) -= joint::lock_load(*hinge_.lock, lock_history_, k.theta, k.rate).torque;
+  }
   for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) = f.Q(free_[i]);
   return r;
 }
@@ -199,12 +214,14 @@ void HingedSystem::add_mass_matrix(const Kin& k, double c_a, integrate::BlockMat
     S.A.topLeftCorner<6, 6>() += c_a * Jb.transpose() * base_.inertia.spatial() * Jb;
   }
   if (iv_theta_ >= 0) Jr.block<3, 1>(3, iv_theta_) = R_EB * hinge_.axis_B;
-  Eigen::Matrix<double, 6, 6> ME = hinge_.fitting.spatial();
-  const Eigen::Vector3d s = ffi_.first_moment(k.d);
-  ME.topLeftCorner<3, 3>() += ffi_.mass() * Eigen::Matrix3d::Identity();
-  ME.block<3, 3>(0, 3) -= skew(s);
-  ME.block<3, 3>(3, 0) += skew(s);
-  ME.bottomRightCorner<3, 3>() += ffi_.inertia_tensor(k.d);
+  Eigen::Matrix<double, 6, 6> ME = frame_rigid_.spatial();
+  if (flexible_) {
+    const Eigen::Vector3d s = ffi_.first_moment(k.d);
+    ME.topLeftCorner<3, 3>() += ffi_.mass() * Eigen::Matrix3d::Identity();
+    ME.block<3, 3>(0, 3) -= skew(s);
+    ME.block<3, 3>(3, 0) += skew(s);
+    ME.bottomRightCorner<3, 3>() += ffi_.inertia_tensor(k.d);
+  }
   S.A += c_a * Jr.transpose() * ME * Jr;
   if (nf) {
     const auto H = ffi_.rotation_coupling(k.d);
@@ -295,8 +312,9 @@ integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, 
 }
 
 Eigen::Matrix<double, 6, 1> HingedSystem::frame_momentum(const Kin& k) const {
+  Eigen::Matrix<double, 6, 1> p = frame_rigid_.momentum(k.V_E, k.w_E);
+  if (!flexible_) return p;
   const Eigen::Vector3d s = ffi_.first_moment(k.d);
-  Eigen::Matrix<double, 6, 1> p = hinge_.fitting.momentum(k.V_E, k.w_E);
   p.head<3>() += ffi_.mass() * k.V_E + k.w_E.cross(s) + ffi_.S1() * k.dd;
   p.tail<3>() += s.cross(k.V_E) + ffi_.inertia_tensor(k.d) * k.w_E + ffi_.rotation_coupling(k.d) * k.dd;
   return p;
@@ -349,6 +367,18 @@ Eigen::MatrixXd HingedSystem::momentum_jacobian(const Eigen::VectorXd& q, const 
   return J;
 }
 
+Eigen::VectorXd HingedSystem::gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double) const {
+  if (!hinge_.lock || iq_theta_ < 0) return {};
+  Eigen::VectorXd g(2);
+  joint::lock_events(*hinge_.lock, lock_history_, q(iq_theta_), v(iv_theta_), &g(0), &g(1));
+  return g;
+}
+
+void HingedSystem::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double) const {
+  if (hinge_.lock && iq_theta_ >= 0)
+    joint::update_lock_history(*hinge_.lock, lock_history_, q(iq_theta_), v(iv_theta_));
+}
+
 HingedSystem::Outputs HingedSystem::outputs(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                             double t) const {
   const Kin k = kinematics(q, v, nullptr, t);
@@ -356,13 +386,18 @@ HingedSystem::Outputs HingedSystem::outputs(const Eigen::VectorXd& q, const Eige
   o.theta = k.theta;
   o.theta_rate = k.rate;
   o.spring_torque = hinge_.tau0 - hinge_.k_theta * k.theta;
+  if (hinge_.lock) {
+    const auto L = joint::lock_load(*hinge_.lock, lock_history_, k.theta, k.rate);
+    o.lock_force = std::max(L.normal_force, 0.0);
+    o.lock_torque = L.torque;
+  }
   const Momenta m = momenta(k);
   o.P_W = m.P_W;
   o.H_W = m.H_W;
   o.H_base_W = m.H_base_W;
   o.kinetic = (base_.free ? base_.inertia.kinetic_energy(k.V_B, k.w_B) : 0.0) +
-              hinge_.fitting.kinetic_energy(k.V_E, k.w_E) +
-              ffi_.kinetic_energy(k.V_E, k.w_E, k.d, k.dd);
+              frame_rigid_.kinetic_energy(k.V_E, k.w_E) +
+              (flexible_ ? ffi_.kinetic_energy(k.V_E, k.w_E, k.d, k.dd) : 0.0);
   o.potential = -hinge_.tau0 * k.theta + 0.5 * hinge_.k_theta * k.theta * k.theta;
   if (iq_d_ >= 0) {
     const Eigen::VectorXd df = q.segment(iq_d_, num_elastic());

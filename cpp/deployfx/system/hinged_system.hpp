@@ -23,6 +23,7 @@
 #include "deployfx/fem/free_block.hpp"
 #include "deployfx/fem/shell_model.hpp"
 #include "deployfx/integrate/second_order_system.hpp"
+#include "deployfx/joint/hinge_lock.hpp"
 
 namespace deployfx::system {
 
@@ -54,6 +55,8 @@ struct HingeSpec {
   /// spring, damper and lock act on it), in E. Without it the spring's preload acts on a massless
   /// frame and drives a stiff, mesh-dependent root mode (docs/engine-design.md).
   body::RigidInertia fitting;
+  /// The lock at the deployed angle (absent: the hinge swings freely).
+  std::optional<joint::HingeLockSpec> lock;
 };
 
 struct AppendageSpec {
@@ -82,6 +85,11 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   Eigen::MatrixXd momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
                                     double c_q) const override;
 
+  /// The lock's event functions (joint::lock_events); empty without a lock or for a driven hinge.
+  Eigen::VectorXd gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const override;
+  void accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const override;
+  void reset_history() const override { lock_history_ = {}; }
+
   /// The initial configuration: base at rest at the origin, theta = 0, d = 0.
   Eigen::VectorXd initial_positions() const;
 
@@ -90,6 +98,7 @@ class HingedSystem final : public integrate::SecondOrderSystem {
     Eigen::Vector3d P_W, H_W;       // total linear (N s) and angular momentum about W's origin (N m s)
     Eigen::Vector3d H_base_W;       // the base's angular momentum about W's origin
     double kinetic = 0, potential = 0;  // J (spring + strain energy)
+    double lock_force = 0, lock_torque = 0;  // N (normal, both walls), N m (on theta)
   };
   Outputs outputs(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const;
 
@@ -110,6 +119,10 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   HingeSpec hinge_;
   AppendageSpec app_;
   body::FloatingFrameInertia ffi_;
+  // Everything rigid in E: the fitting, plus the appendage itself when its fidelity is rigid
+  // (then the shape integrals are constant and ffi_ is not evaluated per step).
+  body::RigidInertia frame_rigid_;
+  bool flexible_ = false;
   std::vector<int> free_;
   Eigen::SparseMatrix<double> K_free_;  // K_L on the free dofs
   // The elastic block of the Newton matrix on the mesh's node-block pattern, with the entries of
@@ -117,6 +130,8 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   std::optional<fem::FreeBlock> block_;
   Eigen::VectorXd M_vals_, K_vals_;
   std::array<Eigen::VectorXd, 9> Mij_vals_;
+  // The lock's memory (latch, contact onsets): a run's data, changed only by accept().
+  mutable joint::LockHistory lock_history_;
   int nq_ = 0, nv_ = 0;
   int iq_theta_ = -1, iv_theta_ = -1, iq_d_ = -1, iv_d_ = -1;  // block offsets (-1: absent)
 };

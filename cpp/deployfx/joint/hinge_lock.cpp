@@ -1,0 +1,97 @@
+#include "deployfx/joint/hinge_lock.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "deployfx/math/check.hpp"
+
+namespace deployfx::joint {
+
+void HingeLockSpec::validate() const {
+  require_positive("lock.pin_radius", pin_radius, "(m)");
+  if (!(clearance >= 0 && std::isfinite(clearance))) throw_out_of_range("lock.clearance", clearance, ">= 0 (m)");
+  require_finite("lock.theta_lock", theta_lock, "(rad)");
+}
+
+namespace {
+
+// A wall's normal force without the clamp (delta may be slightly negative within the step that
+// ends at separation): F = K s|delta|^n + D delta' or K s|delta|^n (1 + c delta'/v0), s = sign.
+contact::ContactForce unclamped(const contact::ContactLaw& law, double delta, double delta_dot, double v0) {
+  const double a = std::abs(delta), sgn = delta < 0 ? -1.0 : 1.0;
+  const double p = law.K() * std::pow(a, law.n()), dp = law.n() * law.K() * std::pow(a, law.n() - 1);
+  contact::ContactForce f;
+  if (law.kind() == contact::ContactLaw::Kind::kKelvinVoigtHertz) {
+    f.F = sgn * p + law.D() * delta_dot;
+    f.dF_ddelta = dp;
+    f.dF_ddelta_dot = law.D();
+  } else {
+    const double c = law.hysteresis_factor() / std::max(v0, 1e-9);
+    f.F = sgn * p * (1 + c * delta_dot);
+    f.dF_ddelta = dp * (1 + c * delta_dot);
+    f.dF_ddelta_dot = sgn * p * c;
+  }
+  return f;
+}
+
+// One wall in contact: penetration delta = s r (theta - theta_w) with s = +1 (stop) or -1 (latch).
+void add_wall(const HingeLockSpec& lock, double s, double theta_w, double v0, double theta, double rate,
+              LockLoad& out) {
+  const double r = lock.pin_radius;
+  const auto Fn = unclamped(lock.law, s * r * (theta - theta_w), s * r * rate, v0);
+  // Normal: torque -s r F_n; friction on the slip r theta' (opposing it), only while pushing.
+  const auto Ft = Fn.F > 0 ? lock.friction.evaluate(r * rate, Fn.F) : contact::FrictionForce{};
+  out.normal_force += Fn.F;
+  out.torque += -s * r * Fn.F + r * Ft.F_t;
+  const double dFn_dtheta = Fn.dF_ddelta * s * r, dFn_drate = Fn.dF_ddelta_dot * s * r;
+  out.dtorque_dtheta += -s * r * dFn_dtheta + r * Ft.dF_dF_n * dFn_dtheta;
+  out.dtorque_drate += -s * r * dFn_drate + r * (Ft.dF_dv_t * r + Ft.dF_dF_n * dFn_drate);
+}
+
+}  // namespace
+
+LockLoad lock_load(const HingeLockSpec& lock, const LockHistory& h, double theta, double rate) {
+  LockLoad out;
+  if (h.stop_contact) add_wall(lock, +1.0, lock.theta_lock, h.stop_v0, theta, rate, out);
+  if (h.latch_contact) add_wall(lock, -1.0, lock.theta_latch(), h.latch_v0, theta, rate, out);
+  return out;
+}
+
+namespace {
+
+// A wall's event function (> 0 while its mode holds), penetration delta and rate delta_dot:
+// closed: its force; open: its gap -delta outside, and inside (just separated, the pin still
+// within the compliant layer) minus the force it would push with, so it recloses as soon as
+// the pin pushes in again.
+double wall_event(const contact::ContactLaw& law, bool closed, double v0, double delta, double delta_dot) {
+  if (closed) return unclamped(law, delta, delta_dot, v0).F;
+  if (delta <= 0) return -delta;
+  return -unclamped(law, delta, delta_dot, std::max(v0, std::abs(delta_dot))).F;
+}
+
+}  // namespace
+
+void lock_events(const HingeLockSpec& lock, const LockHistory& h, double theta, double rate, double* stop,
+                 double* latch) {
+  const double r = lock.pin_radius;
+  *stop = wall_event(lock.law, h.stop_contact, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
+  *latch = h.latched ? wall_event(lock.law, h.latch_contact, h.latch_v0, r * (lock.theta_latch() - theta), -r * rate)
+                     : std::numeric_limits<double>::infinity();
+}
+
+void update_lock_history(const HingeLockSpec& lock, LockHistory& h, double theta, double rate) {
+  if (!h.latched && theta >= lock.theta_latch()) h.latched = true;
+  const double r = lock.pin_radius;
+  // A wall switches mode when its event function is no longer positive; a closing wall keeps
+  // its approach speed (the Hunt-Crossley family's v0).
+  auto update = [&](bool& closed, double& v0, double delta, double delta_dot) {
+    if (wall_event(lock.law, closed, v0, delta, delta_dot) > 0) return;
+    closed = !closed;
+    if (closed) v0 = std::max(delta_dot, 1e-9);
+  };
+  update(h.stop_contact, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
+  if (h.latched) update(h.latch_contact, h.latch_v0, r * (lock.theta_latch() - theta), -r * rate);
+}
+
+}  // namespace deployfx::joint

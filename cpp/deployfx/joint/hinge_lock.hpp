@@ -1,0 +1,56 @@
+#pragma once
+// The hinge lock of You et al. (2016), Fig. 1 and 4: a pin on the hinge fitting, at radius
+// r_pin from the axis, enters a curved groove at the deployed angle. Modelled in the hinge angle
+// theta (the travel from stowed) as two one-sided walls (paper2016-scenario.md, "choice"):
+//   the stop at theta_lock:        penetration delta = r_pin (theta - theta_lock),
+//   the latch at theta_latch = theta_lock - clearance / r_pin, active once the pin has passed
+//   it (it forbids return past the groove): delta = r_pin (theta_latch - theta).
+// Each wall pushes with a normal force F_n(delta, delta') of a contact::ContactLaw, and the pin
+// rubs the groove with Coulomb friction mu F_n opposing the slip r_pin theta'. The torque on the
+// hinge is tau = r_pin (F_latch - F_stop) + r_pin F_t.
+// Each wall is either open or in contact, and its mode is fixed within a time step (an active
+// set): in contact the law is used without its clamp, so the residual is smooth while Newton
+// iterates. The stepper locates the switches as events: an open wall closes when its gap reaches
+// 0; a wall in contact opens when its (unclamped) force reaches 0. Between events the force
+// therefore never pulls, and the paper's law, whose force jumps to D v0 at onset, needs no
+// smoothing.
+#include "deployfx/contact/force_law.hpp"
+#include "deployfx/contact/friction.hpp"
+
+namespace deployfx::joint {
+
+struct HingeLockSpec {
+  double theta_lock = 0;   ///< rad of hinge travel where the pin seats (the deployed angle)
+  double pin_radius = 0;   ///< m, from the hinge axis
+  double clearance = 0;    ///< m, the pin's free play in the groove once latched
+  contact::ContactLaw law{contact::ContactLaw::Kind::kKelvinVoigtHertz, 1.0};
+  contact::CoulombFriction friction{0.0};
+  /// Throws std::invalid_argument naming the parameter (pin_radius > 0, clearance >= 0).
+  void validate() const;
+  double theta_latch() const { return theta_lock - clearance / pin_radius; }
+};
+
+/// What the lock remembers between steps (a run's Data): the latch and each wall's contact,
+/// with the approach speed at onset (the Hunt-Crossley family needs it).
+struct LockHistory {
+  bool latched = false;
+  bool stop_contact = false, latch_contact = false;  ///< the walls' modes
+  double stop_v0 = 0, latch_v0 = 0;                   ///< approach speed at onset, m/s
+};
+
+struct LockLoad {
+  double torque = 0;          ///< N m, on theta
+  double dtorque_dtheta = 0;  ///< N m/rad
+  double dtorque_drate = 0;   ///< N m s/rad
+  double normal_force = 0;    ///< N, sum over both walls (>= 0)
+};
+
+LockLoad lock_load(const HingeLockSpec& lock, const LockHistory& history, double theta, double rate);
+/// The event functions of the two walls (stop, latch), positive while their modes hold: an open
+/// wall's gap (m), a closed wall's normal force (N); the latch's is +inf until latched.
+void lock_events(const HingeLockSpec& lock, const LockHistory& history, double theta, double rate,
+                 double* stop, double* latch);
+/// Updates the history after an accepted step ending at (theta, rate).
+void update_lock_history(const HingeLockSpec& lock, LockHistory& history, double theta, double rate);
+
+}  // namespace deployfx::joint

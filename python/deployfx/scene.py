@@ -1,0 +1,258 @@
+"""Build a scene from parts, compile it into an immutable model, simulate it.
+
+A scene is a spacecraft base (free-floating or fixed), rigid parts fixed to it (a yoke, say),
+one revolute hinge (spring with preload, damper, or a prescribed angle), the hinge fitting, one
+appendage (a shell mesh in the hinge frame E, rigid or flexible) and optionally a lock. Each part
+is present only if the scene needs it: a fixed base has no base coordinates, a rigid appendage no
+finite elements, no lock no contact events. ``compile()`` validates every parameter and returns a
+:class:`Model`; ``Model.simulate`` runs it in C++ (GIL released) and returns a
+:class:`~deployfx.results.Result`.
+
+Frames (docs/notation.md): B is the base (origin at its reference point), E the hinge frame: its
+origin on the hinge axis, its axes ``R_BE(theta) = Rot(axis, theta) R_BE0``; theta is the hinge
+travel from the stowed position. SI units throughout.
+
+This version composes one hinge per scene; chains of hinges (yoke and several panels) are the
+next step of issue 5.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Optional, Sequence
+
+import numpy as np
+
+from . import _core
+from ._checks import as_float
+from .contact import ContactLaw, Friction
+from .integrators import HHT, GeneralizedAlpha, Newmark, SimulationError, _check_scheme
+from .plate import ShellModel
+from .results import Result
+
+FIDELITIES = ("rigid", "linear", "nonlinear")
+
+
+def _vector(name: str, value, n: int = 3) -> np.ndarray:
+    a = np.asarray(value, dtype=float)
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be {n} finite numbers, got {value!r}")
+    return a
+
+
+def _matrix3(name: str, value) -> np.ndarray:
+    a = np.asarray(value, dtype=float)
+    if a.shape == ():
+        a = a * np.eye(3)
+    if a.shape != (3, 3) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be a 3 x 3 matrix (or a scalar times identity), got {value!r}")
+    return a
+
+
+@dataclass(frozen=True)
+class RigidPart:
+    """A rigid body: mass (kg), centre of mass (m) and inertia about it (kg m^2), in its frame."""
+
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+
+    @staticmethod
+    def make(name: str, mass: float, com, inertia) -> "RigidPart":
+        m = as_float(f"{name}.mass", mass)
+        if not (np.isfinite(m) and m >= 0):
+            raise ValueError(f"{name}.mass = {m} is out of range: must be >= 0 (kg)")
+        J = _matrix3(f"{name}.inertia", inertia)
+        if np.abs(J - J.T).max() > 1e-12 * max(1.0, np.abs(J).max()) or np.linalg.eigvalsh(J).min() < 0:
+            raise ValueError(f"{name}.inertia must be symmetric positive semidefinite (kg m^2)")
+        return RigidPart(m, _vector(f"{name}.com", com), J)
+
+    def __add__(self, other: "RigidPart") -> "RigidPart":
+        """Two parts in one frame as one rigid body (parallel axes)."""
+        m = self.mass + other.mass
+        if m == 0:
+            return RigidPart(0.0, np.zeros(3), self.inertia + other.inertia)
+        c = (self.mass * self.com + other.mass * other.com) / m
+        J = np.zeros((3, 3))
+        for p in (self, other):
+            r = p.com - c
+            J += p.inertia + p.mass * (r @ r * np.eye(3) - np.outer(r, r))
+        return RigidPart(m, c, J)
+
+
+@dataclass(frozen=True)
+class Model:
+    """A compiled scene: immutable, reusable for many runs."""
+
+    system: _core.HingedSystem = field(repr=False)
+    shell: Optional[ShellModel] = field(repr=False)
+    fidelity: str
+    base_free: bool
+    has_lock: bool
+    fixed_dofs: tuple = field(repr=False)
+    description: dict = field(default_factory=dict)
+
+    @property
+    def free_dofs(self) -> np.ndarray:
+        """The appendage's free elastic dofs (indices into the mesh's 6-per-node dofs)."""
+        if self.shell is None or self.fidelity == "rigid":
+            return np.zeros(0, dtype=int)
+        n = self.shell.num_dofs
+        return np.setdiff1d(np.arange(n), np.asarray(self.fixed_dofs, dtype=int))
+
+    def simulate(self, t_end: float, dt: float, scheme=GeneralizedAlpha(0.8),
+                 series: Optional[Callable[["Model", dict], dict]] = None,
+                 units: Optional[dict] = None, metadata: Optional[dict] = None) -> Result:
+        """Run from rest at the stowed configuration to ``t_end`` (s) with output step ``dt`` (s).
+
+        ``series(model, raw)`` maps the engine's raw output (``t``, ``q``, ``v``, ``theta``,
+        ``theta_rate``, ``spring_torque``, ``lock_force``, ``lock_torque``, ``kinetic_energy``,
+        ``potential_energy``, ``linear_momentum``, ``angular_momentum``,
+        ``base_angular_momentum``) to the result's series; by default all of them are kept.
+        Raises :class:`~deployfx.integrators.SimulationError` with ``.result`` (the series up to
+        the failure) if a step cannot be completed.
+        """
+        t_end, dt = as_float("t_end", t_end), as_float("dt", dt)
+        if not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt = {dt} is out of range: must be > 0 (s)")
+        if not (np.isfinite(t_end) and t_end >= 0):
+            raise ValueError(f"t_end = {t_end} is out of range: must be >= 0 (s)")
+        scheme = _check_scheme(scheme)
+        q0 = self.system.initial_positions()
+        v0 = np.zeros(self.system.num_velocities)
+        start = time.perf_counter()
+        raw = _core.simulate_hinged(self.system, q0, v0, t_end, dt, scheme._params())
+        wall = time.perf_counter() - start
+        out = series(self, raw) if series else {k: raw[k] for k in _RAW_SERIES}
+        meta = dict(self.description)
+        meta.update(metadata or {})
+        meta.update(model=self.fidelity, dt=dt, t_end=t_end, integrator=_scheme_name(scheme),
+                    steps=int(round(t_end / dt)) if dt > 0 else 0, substeps=int(raw["substeps"]),
+                    newton_iterations=int(np.sum(raw["newton_iterations"])),
+                    factorizations=int(raw["factorizations"]), wall_time_s=wall)
+        if raw["failure"]:
+            meta["failure"] = raw["failure"]
+        result = Result(out, units=units or _RAW_UNITS, metadata=meta)
+        if raw["failure"]:
+            raise SimulationError(f"{raw['failure']}; the result up to t = {raw['t'][-1]:.6g} s is in "
+                                  f"the exception's .result", result)
+        return result
+
+
+_RAW_SERIES = ("t", "theta", "theta_rate", "spring_torque", "lock_force", "lock_torque", "kinetic_energy",
+               "potential_energy", "linear_momentum", "angular_momentum", "base_angular_momentum")
+_RAW_UNITS = {"t": "s", "theta": "rad", "theta_rate": "rad/s", "spring_torque": "N m", "lock_force": "N",
+              "lock_torque": "N m", "kinetic_energy": "J", "potential_energy": "J", "linear_momentum": "N s",
+              "angular_momentum": "N m s", "base_angular_momentum": "N m s"}
+
+
+def _scheme_name(scheme) -> str:
+    if isinstance(scheme, Newmark):
+        return f"Newmark(beta={scheme.beta}, gamma={scheme.gamma})"
+    if isinstance(scheme, HHT):
+        return f"HHT(alpha={scheme.alpha})"
+    return f"GeneralizedAlpha(rho_inf={scheme.rho_inf})"
+
+
+class Scene:
+    """A mutable builder; every ``set_*``/``add_*`` returns the scene, so calls chain."""
+
+    def __init__(self) -> None:
+        self._base: Optional[tuple] = None
+        self._parts: list[RigidPart] = []
+        self._hinge: Optional[dict] = None
+        self._appendage: Optional[dict] = None
+        self._lock: Optional[dict] = None
+
+    def set_base(self, mass: float, inertia, com: Sequence[float] = (0.0, 0.0, 0.0), free: bool = True) -> "Scene":
+        """The spacecraft body: mass (kg), inertia about its centre of mass (kg m^2, B axes; a
+        scalar means isotropic), centre of mass in B (m). ``free=False`` fixes it to the ground
+        (then it has no coordinates and mass and inertia are ignored)."""
+        part = RigidPart.make("base", mass, com, inertia)
+        if free and part.mass <= 0:
+            raise ValueError(f"base.mass = {part.mass} is out of range: must be > 0 (kg) for a free base")
+        self._base = (part, bool(free))
+        return self
+
+    def add_rigid_part(self, mass: float, inertia, com: Sequence[float]) -> "Scene":
+        """A rigid part fixed to the base (a yoke): mass (kg), inertia about its centre of mass
+        (kg m^2, B axes), centre of mass in B (m)."""
+        self._parts.append(RigidPart.make("part", mass, com, inertia))
+        return self
+
+    def set_hinge(self, point: Sequence[float], axis: Sequence[float], R_BE0=np.eye(3), tau0: float = 0.0,
+                  k_theta: float = 0.0, c_theta: float = 0.0, fitting_inertia=0.0, fitting_mass: float = 0.0,
+                  fitting_com: Sequence[float] = (0.0, 0.0, 0.0),
+                  spin_up: Optional[tuple[float, float]] = None) -> "Scene":
+        """The revolute hinge: a point of its axis (m, B) and the axis (unit, B); ``R_BE0`` the
+        appendage frame's axes at theta = 0; spring torque ``tau0 - k_theta theta`` (N m, N m/rad),
+        viscous damping ``c_theta`` (N m s/rad). The fitting (the rigid part turning with E that the
+        spring, damper and lock act on): inertia (kg m^2 about its centre of mass, E axes), mass
+        (kg), centre of mass (m, E). ``spin_up=(omega_s, t_s)`` prescribes theta(t) instead
+        (Kane, Ryan & Banerjee 1987: rad/s, s)."""
+        axis = _vector("hinge.axis", axis)
+        if abs(np.linalg.norm(axis) - 1) > 1e-9:
+            raise ValueError(f"hinge.axis = {axis.tolist()} must be a unit vector")
+        R = _matrix3("hinge.R_BE0", R_BE0)
+        if np.abs(R.T @ R - np.eye(3)).max() > 1e-9 or np.linalg.det(R) < 0:
+            raise ValueError("hinge.R_BE0 must be a rotation matrix")
+        fitting = RigidPart.make("hinge.fitting", fitting_mass, fitting_com, fitting_inertia)
+        if spin_up is not None:
+            spin_up = (as_float("spin_up.omega_s", spin_up[0]), as_float("spin_up.t_s", spin_up[1]))
+        self._hinge = dict(point=_vector("hinge.point", point), axis=axis, R_BE0=R,
+                           tau0=as_float("hinge.tau0", tau0), k_theta=as_float("hinge.k_theta", k_theta),
+                           c_theta=as_float("hinge.c_theta", c_theta), fitting=fitting, spin_up=spin_up)
+        return self
+
+    def set_appendage(self, shell: ShellModel, fixed_dofs: Sequence[int], fidelity: str = "nonlinear") -> "Scene":
+        """The appendage: a shell mesh with node coordinates in E (m), the dofs clamped to E (its
+        root edge) and the fidelity: "rigid" (one rigid body: the mesh's mass distribution),
+        "linear" (linear strain) or "nonlinear" (Green strain, You et al. 2016 Eq. 14)."""
+        if not isinstance(shell, ShellModel):
+            raise TypeError(f"shell must be a deployfx.ShellModel, got {type(shell).__name__}")
+        if fidelity not in FIDELITIES:
+            raise ValueError(f"fidelity = {fidelity!r} is invalid: must be one of {', '.join(FIDELITIES)}")
+        fixed = sorted({int(i) for i in fixed_dofs})
+        if fixed and (fixed[0] < 0 or fixed[-1] >= shell.num_dofs):
+            raise ValueError(f"fixed_dofs must lie in [0, {shell.num_dofs})")
+        self._appendage = dict(shell=shell, fixed=tuple(fixed), fidelity=fidelity)
+        return self
+
+    def set_lock(self, theta_lock: float, pin_radius: float, clearance: float, law: ContactLaw,
+                 friction: Friction = Friction(0.0)) -> "Scene":
+        """The lock: the pin (at ``pin_radius`` m from the axis) seats at hinge travel
+        ``theta_lock`` (rad); ``clearance`` (m) is its play once latched; ``law`` the normal
+        contact force, ``friction`` the groove's Coulomb friction (see joint/hinge_lock.hpp)."""
+        if not isinstance(law, ContactLaw):
+            raise TypeError(f"law must be a deployfx.contact.ContactLaw, got {type(law).__name__}")
+        if not isinstance(friction, Friction):
+            raise TypeError(f"friction must be a deployfx.contact.Friction, got {type(friction).__name__}")
+        self._lock = dict(theta_lock=as_float("lock.theta_lock", theta_lock),
+                          pin_radius=as_float("lock.pin_radius", pin_radius),
+                          clearance=as_float("lock.clearance", clearance), law=law, friction=friction)
+        return self
+
+    def compile(self, description: Optional[dict] = None) -> Model:
+        """Validate and build the immutable :class:`Model` (ValueError names any bad parameter)."""
+        for name, part in (("base", self._base), ("hinge", self._hinge), ("appendage", self._appendage)):
+            if part is None:
+                raise ValueError(f"the scene has no {name}: call set_{name}() first")
+        base, free = self._base
+        for p in self._parts:
+            base = base + p
+        h, a = self._hinge, self._appendage
+        if h["spin_up"] is not None and self._lock is not None:
+            raise ValueError("a hinge with a prescribed angle (spin_up) cannot have a lock")
+        lock = None
+        if self._lock is not None:
+            L = self._lock
+            lock = _core.HingeLockSpec(L["theta_lock"], L["pin_radius"], L["clearance"], L["law"]._impl,
+                                       L["friction"].mu, L["friction"].v_reg)
+        f = h["fitting"]
+        system = _core.HingedSystem(free, base.mass if free else 1.0, base.inertia if free else np.eye(3),
+                                    h["point"], h["axis"], h["R_BE0"], h["tau0"], h["k_theta"], h["c_theta"],
+                                    h["spin_up"], a["shell"]._impl, list(a["fixed"]), a["fidelity"],
+                                    base_com=base.com, fitting_mass=f.mass, fitting_com=f.com,
+                                    fitting_inertia=f.inertia, lock=lock)
+        return Model(system=system, shell=a["shell"], fidelity=a["fidelity"], base_free=free,
+                     has_lock=lock is not None, fixed_dofs=a["fixed"], description=dict(description or {}))

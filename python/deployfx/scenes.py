@@ -1,0 +1,232 @@
+"""Ready scenes, built with :class:`deployfx.scene.Scene` like any user scene.
+
+- :func:`paper2016`: You et al. (2016), a laminated appendage deploying from a free-floating
+  spacecraft and slamming into its lock (numbers: ``shared/design/paper2016-scenario.md``).
+- :func:`spin_up_beam`: the spin-up beam of Kane, Ryan & Banerjee (1987), J. Guid. Control Dyn.
+  10(2), 139-151: a cantilever on a hub whose rate is ramped to omega_s over t_s.
+
+Units: the paper's N mm and degrees are converted here; everything inside is SI.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from . import paper2016 as _paper
+from .contact import ContactLaw, Friction
+from .integrators import GeneralizedAlpha, SimulationError
+from .materials import Isotropic, Laminate, Ply
+from .plate import Plate, ShellModel
+from .results import Result
+from .scene import FIDELITIES, Model, Scene
+
+N_MM_PER_DEG = 1e-3 * 180.0 / np.pi  # 1 N mm/deg in N m/rad
+
+
+def _Ry(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def _transverse(model: Model, q: np.ndarray, nodes: list[int]) -> np.ndarray:
+    """Mean transverse displacement (m, E's z) of ``nodes`` from the recorded coordinates."""
+    free = model.free_dofs
+    if free.size == 0:
+        return np.zeros(len(q))
+    offset = model.system.num_positions - free.size
+    cols = [offset + int(np.searchsorted(free, 6 * n + 2)) for n in nodes]
+    return q[:, cols].mean(axis=1)
+
+
+# --------------------------------------------------------------------------------------------
+# You et al. (2016)
+
+@dataclass(frozen=True)
+class Paper2016Parameters:
+    """The paper's scene (Tables 1-2 and text) in SI; fields marked *choice* are deployfx's
+    where the paper is silent (paper2016-scenario.md)."""
+
+    layup: int = 2
+    model: str = "nonlinear"
+    nx: int = _paper.NX                         #: elements along the 2.0 m length
+    ny: int = _paper.NY                         #: elements across the 1.3 m width
+    body_mass: float = 3000.0                   #: kg
+    body_inertia: float = 500.0                 #: kg m^2 (Jxx = Jyy = Jzz)
+    yoke_mass: float = 2.0                      #: kg
+    yoke_inertia: tuple = (1.0, 1.0, 0.5)       #: kg m^2 about its centre of mass
+    yoke_com_x: float = 0.815                   #: m from the body centroid (choice)
+    hinge_x: float = 0.83                       #: m, l_b + a_h
+    root_offset: float = 0.03                   #: m, b_h: hinge axis to the root edge
+    tau0: float = 7200.0 * 1e-3                 #: N m (7200 N mm)
+    k_theta: float = 80.0 * N_MM_PER_DEG        #: N m/rad (80 N mm/deg)
+    c_theta: float = 0.0                        #: N m s/rad
+    fitting_inertia: float = 0.02               #: kg m^2, hinge fitting (choice, docs/engine-design.md)
+    lock: bool = True
+    pin_radius: float = 0.03                    #: m (choice)
+    clearance: float = 0.2e-3                   #: m, play once latched (choice)
+    contact: ContactLaw = ContactLaw("paper", K=1e6 / (1e-3) ** 1.5, n=1.5, D=1e6)  #: 1e6 N/mm^1.5, 1e3 N s/mm
+    friction: Friction = Friction(0.25)         #: mu = 0.25
+    base_free: bool = True
+
+
+class Paper2016Scene:
+    """The compiled scene; :meth:`simulate` returns the paper's series (issue 4)."""
+
+    def __init__(self, p: Paper2016Parameters):
+        if p.model not in FIDELITIES:
+            raise ValueError(f"model = {p.model!r} is invalid: must be one of {', '.join(FIDELITIES)}")
+        self.parameters = p
+        plate = _paper.appendage_plate(p.layup, p.nx, p.ny)
+        nodes = plate.model.nodes.copy()
+        nodes[:, 0] += p.root_offset        # root edge b_h from the hinge axis
+        nodes[:, 1] -= _paper.WIDTH / 2     # centred on the hinge point
+        shell = ShellModel(nodes, plate.model.quads, plate.laminate)
+        scene = (Scene()
+                 .set_base(p.body_mass, p.body_inertia, free=p.base_free)
+                 .add_rigid_part(p.yoke_mass, np.diag(p.yoke_inertia), (p.yoke_com_x, 0.0, 0.0))
+                 .set_hinge(point=(p.hinge_x, 0.0, 0.0), axis=(0.0, 1.0, 0.0), R_BE0=_Ry(-np.pi / 2),
+                            tau0=p.tau0, k_theta=p.k_theta, c_theta=p.c_theta,
+                            fitting_inertia=p.fitting_inertia)
+                 .set_appendage(shell, plate.fixed_dofs("CFFF"), p.model))
+        if p.lock:
+            scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, p.friction)
+        self.model = scene.compile(description={"scene": "paper2016", "layup": p.layup,
+                                                "mesh": f"{p.nx}x{p.ny}"})
+        # Node E: the free-end corner (x = L, y = W); also the free end's mid-width node.
+        self.node_E = p.ny * (p.nx + 1) + p.nx
+        self.node_mid = (p.ny // 2) * (p.nx + 1) + p.nx
+
+    def _series(self, model: Model, raw: dict) -> dict:
+        q = raw["q"]
+        if model.base_free:
+            attitude = Rotation.from_quat(q[:, [4, 5, 6, 3]]).as_rotvec(degrees=True)
+        else:
+            attitude = np.zeros((len(q), 3))
+        return {
+            "t": raw["t"],
+            "deployment_angle": 90.0 + np.degrees(raw["theta"]),
+            "deployment_rate": np.degrees(raw["theta_rate"]),
+            "spring_torque": raw["spring_torque"],
+            "lock_force": raw["lock_force"],
+            "node_E_deflection": _transverse(model, q, [self.node_E]),
+            "node_mid_deflection": _transverse(model, q, [self.node_mid]),
+            "body_attitude": attitude,
+            "body_angular_momentum": raw["base_angular_momentum"],
+            "total_angular_momentum": raw["angular_momentum"],
+            "total_linear_momentum": raw["linear_momentum"],
+            "kinetic_energy": raw["kinetic_energy"],
+            "potential_energy": raw["potential_energy"],
+        }
+
+    UNITS = {"t": "s", "deployment_angle": "deg", "deployment_rate": "deg/s", "spring_torque": "N m",
+             "lock_force": "N", "node_E_deflection": "m", "node_mid_deflection": "m", "body_attitude": "deg",
+             "body_angular_momentum": "N m s", "total_angular_momentum": "N m s",
+             "total_linear_momentum": "N s", "kinetic_energy": "J", "potential_energy": "J"}
+
+    def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.8)) -> Result:
+        """Deployment from stowed (90 deg) at rest for ``t_end`` s with output step ``dt`` s.
+        Series: ``t`` (s), ``deployment_angle`` (deg, 90 stowed, 180 deployed), ``spring_torque``
+        (N m), ``lock_force`` (N), ``node_E_deflection`` and ``node_mid_deflection`` (m,
+        transverse, appendage frame), ``body_attitude`` (deg, rotation vector of the body),
+        ``body_angular_momentum``, ``total_angular_momentum`` (N m s, world axes about the
+        initial centre of mass), energies (J)."""
+        return self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS)
+
+
+def paper2016(layup: int = 2, model: str = "nonlinear", **overrides) -> Paper2016Scene:
+    """You et al. (2016): lay-up 1 ([0/0/0/0]) or 2 ([0/90/90/0]); model "rigid", "linear" or
+    "nonlinear"; any field of :class:`Paper2016Parameters` may be overridden by keyword."""
+    names = {f.name for f in dataclasses.fields(Paper2016Parameters)}
+    unknown = sorted(set(overrides) - names)
+    if unknown:
+        raise TypeError(f"paper2016() got unknown parameters {unknown}; allowed: {sorted(names)}")
+    if layup not in _paper.LAYUPS:
+        raise ValueError(f"layup = {layup!r} is out of range: must be 1 or 2")
+    return Paper2016Scene(Paper2016Parameters(layup=layup, model=model, **overrides))
+
+
+# --------------------------------------------------------------------------------------------
+# Kane, Ryan & Banerjee (1987)
+
+#: The beam: L (m), EI (N m^2), rho A (kg/m), EA (N).
+SPIN_UP_BEAM = {"L": 10.0, "EI": 1.4e4, "rhoA": 1.2, "EA": 2.8e7}
+
+
+def spin_up_strip(nx: int = 20, width: float = 0.2) -> Plate:
+    """The spin-up beam as a plate strip with the beam's EA, EI and rho A: an isotropic strip
+    (nu = 0, so the plate's D b is the beam's EI) of thickness h = sqrt(12 EI/EA) = 77.5 mm,
+    E = EA/(b h) and rho = rho A/(b h); one element across the ``width`` b (m)."""
+    L, EI, rhoA, EA = (SPIN_UP_BEAM[k] for k in ("L", "EI", "rhoA", "EA"))
+    h = np.sqrt(12 * EI / EA)
+    material = Isotropic(E=EA / (width * h), nu=0.0, rho=rhoA / (width * h))
+    return Plate(L, width, Laminate([Ply(material, h, 0.0)]), nx, 1)
+
+
+class SpinUpBeamScene:
+    """The compiled spin-up beam; :meth:`simulate` returns ``t`` and ``tip_deflection``."""
+
+    def __init__(self, omega_s: float, t_s: float, model: str, nx: int):
+        strip = spin_up_strip(nx)
+        self.omega_s, self.t_s = omega_s, t_s
+        self.length = SPIN_UP_BEAM["L"]
+        # Fixed hub; the beam along E's x, bending in the plane of rotation (E's z): the hinge
+        # axis is E's y, the strip's width direction.
+        self.model = (Scene()
+                      .set_base(1.0, 1.0, free=False)
+                      .set_hinge(point=(0.0, 0.0, 0.0), axis=(0.0, 1.0, 0.0), spin_up=(omega_s, t_s))
+                      .set_appendage(strip.model, strip.fixed_dofs("CFFF"), model)
+                      .compile(description={"scene": "spin_up_beam", "omega_s": omega_s, "t_s": t_s,
+                                            "mesh": f"{nx}x1"}))
+        self.tip_nodes = [nx, 2 * nx + 1]  # (x = L, y = 0) and (x = L, y = b)
+
+    def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.9),
+                 divergence_limit: Optional[float] = None) -> Result:
+        """Spin-up from rest. Series ``t`` (s), ``tip_deflection`` (m, transverse to the beam in
+        the rotating frame, in the plane of rotation, positive in the direction of rotation as in
+        Kane et al.: the tip lags, so it is negative during spin-up), ``hub_angle`` (rad).
+        A run whose tip leaves ``divergence_limit`` (m, default L/2: far beyond small-strain
+        validity) is divergent: :class:`~deployfx.integrators.SimulationError` says when, with
+        the series up to then in ``.result`` (the linear model above omega_1 = 3.80 rad/s)."""
+        limit = 0.5 * self.length if divergence_limit is None else float(divergence_limit)
+        try:
+            result = self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS)
+        except SimulationError as e:
+            result, failure = e.result, str(e)
+        else:
+            failure = ""
+        tip = result.tip_deflection
+        out = np.flatnonzero(np.abs(tip) > limit)
+        if out.size:
+            k = int(out[0])
+            t_div = float(result.t[k])
+            kept = {name: result[name][: k + 1] for name in result.series}
+            meta = result.metadata
+            meta["failure"] = (f"diverged: |tip deflection| = {abs(tip[k]):.3g} m > {limit:g} m at "
+                               f"t = {t_div:.4g} s (model {self.model.fidelity})")
+            partial = Result(kept, units=result.units, metadata=meta)
+            raise SimulationError(meta["failure"] + ("; the linear model softens as K - Omega^2 M and "
+                                  "diverges above the first bending frequency, 3.80 rad/s"
+                                  if self.model.fidelity == "linear" else ""), partial)
+        if failure:
+            raise SimulationError(failure, result)
+        return result
+
+    UNITS = {"t": "s", "tip_deflection": "m", "hub_angle": "rad", "hub_rate": "rad/s"}
+
+    def _series(self, model: Model, raw: dict) -> dict:
+        # Rotation about +y turns E's x axis towards -z: the direction of motion is -z.
+        return {"t": raw["t"], "tip_deflection": -_transverse(model, raw["q"], self.tip_nodes),
+                "hub_angle": raw["theta"], "hub_rate": raw["theta_rate"]}
+
+
+def spin_up_beam(omega_s: float, t_s: float = 15.0, model: str = "nonlinear", nx: int = 20) -> SpinUpBeamScene:
+    """Kane, Ryan & Banerjee (1987): hub rate Omega(t) = (omega_s/t_s)[t - (t_s/2 pi)
+    sin(2 pi t/t_s)] for t <= t_s, then omega_s (rad/s, s); model "linear" or "nonlinear";
+    ``nx`` elements along the 10 m beam."""
+    if model not in ("linear", "nonlinear"):
+        raise ValueError(f"model = {model!r} is invalid: must be 'linear' or 'nonlinear'")
+    return SpinUpBeamScene(float(omega_s), float(t_s), model, int(nx))
