@@ -128,3 +128,33 @@ def test_result_round_trip(tmp_path, nonlinear_run):
     back = dfx.load(path)
     np.testing.assert_array_equal(back.deployment_angle, nonlinear_run.deployment_angle)
     assert back.summary() == nonlinear_run.summary()
+
+
+def test_concurrent_runs_of_one_model_agree_with_a_serial_run():
+    # A model is reusable: threads sharing one scene (a parameter sweep) must not see each
+    # other's lock history (runs release the GIL; each holds the model's run lock).
+    import threading
+
+    scene = scenes.paper2016(2, "rigid", nx=2, ny=1)
+    ref = scene.simulate(3.0, 0.002)
+    out = [None] * 3
+
+    def run(k):
+        out[k] = scene.simulate(3.0, 0.002)
+
+    threads = [threading.Thread(target=run, args=(k,)) for k in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for r in out:
+        np.testing.assert_array_equal(r.deployment_angle, ref.deployment_angle)
+
+
+def test_hunt_crossley_lock_on_a_flexible_panel_stays_bounded():
+    # The Hunt-Crossley family's damping scales as 1/v0 and its unclamped extension must never
+    # push a pin that has left the surface (review finding): the panel stays within the groove.
+    law = ContactLaw("hunt-crossley", K=3.162e10, n=1.5, e=0.5)
+    r = scenes.paper2016(2, "linear", nx=4, ny=2, contact=law).simulate(3.5, 0.01)
+    after = r.t > r.summary()["first_lock_time_s"] + 0.05
+    assert 179.0 < r.deployment_angle[after].min() and r.deployment_angle.max() < 180.3

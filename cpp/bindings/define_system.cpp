@@ -2,6 +2,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -75,7 +77,7 @@ void define_system(py::module_& m) {
              if (spin_up) h.driven = true, h.driver = {spin_up->first, spin_up->second};
              AppendageSpec a{std::make_shared<const deployfx::fem::ShellModel>(model),
                              std::move(fixed_dofs), parse_fidelity(fidelity)};
-             return HingedSystem(b, h, a);
+             return std::make_unique<HingedSystem>(b, h, a);
            }),
            py::arg("base_free"), py::arg("base_mass"), py::arg("base_inertia"),
            py::arg("hinge_point"), py::arg("hinge_axis"), py::arg("R_BE0"), py::arg("tau0"),
@@ -144,6 +146,7 @@ void define_system(py::module_& m) {
           long factorizations = 0;
           {
             py::gil_scoped_release release;
+            const std::lock_guard<std::mutex> one_run_at_a_time(sys.run_mutex());
             deployfx::integrate::NewtonOptions newton;
             newton.reuse_jacobian = reuse_jacobian;
             const deployfx::integrate::GeneralizedAlpha integrator(sys, p, newton);

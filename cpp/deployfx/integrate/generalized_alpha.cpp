@@ -107,7 +107,9 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
     // rho/(1 - rho) |dv| (Hairer & Wanner, Solving ODEs II, Sec. IV.8) decides convergence.
     const double error = rho > 0 && rho < 1 ? size * rho / (1 - rho) : size;
     const double r_norm = r.lpNorm<Eigen::Infinity>();
-    const bool stalled = it > 2 && r_norm > 0.5 * previous_r && size <= newton_.floor * scale;
+    // Only a fresh matrix's increments measure the distance to the solution (review finding).
+    const bool stalling = it > 2 && r_norm > 0.5 * previous_r && size <= newton_.floor * scale;
+    const bool stalled = fresh && stalling;
     previous_r = r_norm;
     if (error <= newton_.tolerance * scale || stalled) {
       const Eigen::VectorXd a_new = a_of(vdot);
@@ -119,7 +121,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
       s.t = t1;
       return it;
     }
-    if (!fresh && rho > newton_.contraction) refactor = true;  // slow with an old matrix
+    if (!fresh && (rho > newton_.contraction || stalling)) refactor = true;  // slow or stalled, old matrix
     previous = size;
   }
   factor_h_ = -1;

@@ -8,8 +8,9 @@ namespace deployfx::integrate {
 namespace {
 
 constexpr int kMaxHalvings = 10;
-constexpr int kMaxLocateIterations = 40;
+constexpr int kMaxLocateIterations = 60;
 constexpr double kLocateTolerance = 1e-9;  // of the step, on the bracket's width
+constexpr double kEventTolerance = 1e-9;   // on G, the events normalised by their start values
 
 // Advances s by h, halving on Newton failure; returns the Newton iterations spent. On failure
 // s is unchanged and StepFailure propagates.
@@ -28,11 +29,14 @@ int advance(const GeneralizedAlpha& integrator, AlphaState& s, double h, int dep
   return it;
 }
 
-// The first gap that is open at g0 and closed at g1 (-1: none).
-int closing(const Eigen::VectorXd& g0, const Eigen::VectorXd& g1) {
+// The earliest switch among the events holding at the step's start is the first root of
+// G = min_i g_i / g0_i over those events (each normalised by its start value, so events in
+// different units compare; G = 1 at the start).
+double first_switch(const Eigen::VectorXd& g0, const Eigen::VectorXd& g) {
+  double G = 1.0;
   for (Eigen::Index i = 0; i < g0.size(); ++i)
-    if (g0(i) > 0 && g1(i) <= 0) return static_cast<int>(i);
-  return -1;
+    if (g0(i) > 0 && std::isfinite(g0(i))) G = std::min(G, g(i) / g0(i));
+  return G;
 }
 
 }  // namespace
@@ -45,7 +49,7 @@ Trajectory run_fixed_step(const GeneralizedAlpha& integrator, AlphaState s, doub
   const SecondOrderSystem& sys = integrator.system();
   Trajectory tr;
   const long steps = std::lround(std::ceil((t_end - s.t) / h - 1e-9));
-  tr.t.reserve(steps + 1);
+  tr.t.reserve(static_cast<std::size_t>(std::min(steps + 1, 1L << 20)));
   auto record = [&] {
     tr.t.push_back(s.t);
     tr.q.push_back(s.q);
@@ -64,34 +68,33 @@ Trajectory run_fixed_step(const GeneralizedAlpha& integrator, AlphaState s, doub
         AlphaState trial = s;
         iterations += advance(integrator, trial, h_k, 0, &tr.substeps);
         const Eigen::VectorXd g0 = sys.gaps(s.q, s.v, s.t);
-        Eigen::VectorXd g1 = sys.gaps(trial.q, trial.v, trial.t);
-        const int i = closing(g0, g1);
-        if (i < 0) {
+        const double G1 = first_switch(g0, sys.gaps(trial.q, trial.v, trial.t));
+        if (G1 > 0) {
           s = std::move(trial);
           s.t = std::abs(s.t - target) < 1e-12 * std::max(1.0, std::abs(target)) ? target : s.t;
           sys.accept(s.q, s.v, s.t);
           continue;
         }
-        // Locate the closing of gap i in (0, h_k]: Illinois-safeguarded secant on g_i(step size).
-        double lo = 0, hi = h_k, g_lo = g0(i), g_hi = g1(i);
+        // Locate the first root of G in (0, h_k]: secant with the Illinois modification, falling
+        // back to bisection when the secant keeps hugging one end; the stop test uses the true G.
+        double lo = 0, hi = h_k, G_lo = 1.0, G_hi = G1, w_lo = G_lo, w_hi = G_hi;
         AlphaState best = std::move(trial);
-        int side = 0;
-        // Until the event function is within 1e-9 of its scale or the bracket is 1e-9 of the step.
-        const double tol = 1e-9 * std::max(std::abs(g_lo), std::abs(g_hi));
-        for (int n = 0; n < kMaxLocateIterations && g_hi < -tol && hi - lo > kLocateTolerance * h; ++n) {
-          double mid = hi - g_hi * (hi - lo) / (g_hi - g_lo);
+        int side = 0, clipped = 0;
+        for (int n = 0; n < kMaxLocateIterations && G_hi < -kEventTolerance && hi - lo > kLocateTolerance * h; ++n) {
+          double mid = hi - w_hi * (hi - lo) / (w_hi - w_lo);
           const double guard = 0.05 * (hi - lo);
-          mid = std::min(std::max(mid, lo + guard), hi - guard);
+          if (!(mid > lo + guard && mid < hi - guard)) ++clipped;
+          mid = clipped >= 2 ? 0.5 * (lo + hi) : std::min(std::max(mid, lo + guard), hi - guard);
           AlphaState m = s;
           iterations += advance(integrator, m, mid, 0, &tr.substeps);
-          const double g = sys.gaps(m.q, m.v, m.t)(i);
-          if (g > 0) {
-            lo = mid, g_lo = g;
-            if (side == -1) g_hi *= 0.5;  // Illinois: keep the stale end from stalling
+          const double G = first_switch(g0, sys.gaps(m.q, m.v, m.t));
+          if (G > 0) {
+            lo = mid, G_lo = w_lo = G;
+            if (side == -1) w_hi *= 0.5;  // Illinois: keep the stale end from stalling
             side = -1;
           } else {
-            hi = mid, g_hi = g, best = std::move(m);
-            if (side == 1) g_lo *= 0.5;
+            hi = mid, G_hi = w_hi = G, best = std::move(m);
+            if (side == 1) w_lo *= 0.5;
             side = 1;
           }
         }

@@ -8,6 +8,8 @@
 
 namespace deployfx::joint {
 
+constexpr double kMinOnsetSpeed = 1e-3;  // m/s
+
 void HingeLockSpec::validate() const {
   require_positive("lock.pin_radius", pin_radius, "(m)");
   if (!(clearance >= 0 && std::isfinite(clearance))) throw_out_of_range("lock.clearance", clearance, ">= 0 (m)");
@@ -16,8 +18,11 @@ void HingeLockSpec::validate() const {
 
 namespace {
 
-// A wall's normal force without the clamp (delta may be slightly negative within the step that
-// ends at separation): F = K s|delta|^n + D delta' or K s|delta|^n (1 + c delta'/v0), s = sign.
+// A wall's normal force without the clamp, for a wall in contact: delta may turn slightly
+// negative within the step that ends at separation. Kelvin-Voigt: F = K s|delta|^n + D delta',
+// s = sign(delta). Hunt-Crossley family: F = K delta^n (1 + c delta'/v0) for delta > 0 and
+// -K |delta|^n |1 + c delta'/v0| below, so that the extension never pushes a pin that has left
+// the surface (which would feed energy in and keep the wall from opening).
 contact::ContactForce unclamped(const contact::ContactLaw& law, double delta, double delta_dot, double v0) {
   const double a = std::abs(delta), sgn = delta < 0 ? -1.0 : 1.0;
   const double p = law.K() * std::pow(a, law.n()), dp = law.n() * law.K() * std::pow(a, law.n() - 1);
@@ -27,10 +32,17 @@ contact::ContactForce unclamped(const contact::ContactLaw& law, double delta, do
     f.dF_ddelta = dp;
     f.dF_ddelta_dot = law.D();
   } else {
-    const double c = law.hysteresis_factor() / std::max(v0, 1e-9);
-    f.F = sgn * p * (1 + c * delta_dot);
-    f.dF_ddelta = dp * (1 + c * delta_dot);
-    f.dF_ddelta_dot = sgn * p * c;
+    const double c = law.hysteresis_factor() / std::max(v0, 1e-9), m = 1 + c * delta_dot;
+    if (delta >= 0) {
+      f.F = p * m;
+      f.dF_ddelta = dp * m;
+      f.dF_ddelta_dot = p * c;
+    } else {
+      const double sm = m < 0 ? -1.0 : 1.0;
+      f.F = -p * std::abs(m);
+      f.dF_ddelta = dp * std::abs(m);
+      f.dF_ddelta_dot = -p * sm * c;
+    }
   }
   return f;
 }
@@ -88,7 +100,9 @@ void update_lock_history(const HingeLockSpec& lock, LockHistory& h, double theta
   auto update = [&](bool& closed, double& v0, double delta, double delta_dot) {
     if (wall_event(lock.law, closed, v0, delta, delta_dot) > 0) return;
     closed = !closed;
-    if (closed) v0 = std::max(delta_dot, 1e-9);
+    // The Hunt-Crossley family's damping scales as 1/v0: a wall that recloses while the pin
+    // rests on it would get an unbounded damper. Floor: kMinOnsetSpeed.
+    if (closed) v0 = std::max(delta_dot, kMinOnsetSpeed);
   };
   update(h.stop_contact, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
   if (h.latched) update(h.latch_contact, h.latch_v0, r * (lock.theta_latch() - theta), -r * rate);

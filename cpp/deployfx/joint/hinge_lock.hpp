@@ -35,7 +35,7 @@ struct HingeLockSpec {
 struct LockHistory {
   bool latched = false;
   bool stop_contact = false, latch_contact = false;  ///< the walls' modes
-  double stop_v0 = 0, latch_v0 = 0;                   ///< approach speed at onset, m/s
+  double stop_v0 = 0, latch_v0 = 0;  ///< approach speed at onset, m/s (at least 1 mm/s)
 };
 
 struct LockLoad {

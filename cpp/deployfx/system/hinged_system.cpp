@@ -62,9 +62,14 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
   if (!(std::abs(hinge_.axis_B.norm() - 1.0) < 1e-9))
     throw std::invalid_argument("hinge.axis must be a unit vector");
   require_finite("hinge.tau0", hinge_.tau0, "(N m)");
-  if (!(hinge_.k_theta >= 0)) throw_out_of_range("hinge.k_theta", hinge_.k_theta, ">= 0 (N m/rad)");
-  if (!(hinge_.c_theta >= 0)) throw_out_of_range("hinge.c_theta", hinge_.c_theta, ">= 0 (N m s/rad)");
-  if (hinge_.driven) require_positive("driver.t_s", hinge_.driver.t_s, "(s)");
+  if (!(hinge_.k_theta >= 0 && std::isfinite(hinge_.k_theta)))
+    throw_out_of_range("hinge.k_theta", hinge_.k_theta, "finite and >= 0 (N m/rad)");
+  if (!(hinge_.c_theta >= 0 && std::isfinite(hinge_.c_theta)))
+    throw_out_of_range("hinge.c_theta", hinge_.c_theta, "finite and >= 0 (N m s/rad)");
+  if (hinge_.driven) {
+    require_positive("spin_up.t_s", hinge_.driver.t_s, "(s)");
+    require_finite("spin_up.omega_s", hinge_.driver.omega_s, "(rad/s)");
+  }
   if (hinge_.lock) hinge_.lock->validate();
   flexible_ = app_.fidelity != Fidelity::kRigid;
   frame_rigid_ = hinge_.fitting;

@@ -15,6 +15,7 @@
 #include <Eigen/SparseCore>
 #include <array>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -89,6 +90,9 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   Eigen::VectorXd gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const override;
   void accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const override;
   void reset_history() const override { lock_history_ = {}; }
+  /// Held for the whole of a run: the lock's history is per run, so concurrent runs on one
+  /// system (threads in a parameter sweep) take turns instead of corrupting each other.
+  std::mutex& run_mutex() const { return run_mutex_; }
 
   /// The initial configuration: base at rest at the origin, theta = 0, d = 0.
   Eigen::VectorXd initial_positions() const;
@@ -130,8 +134,10 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   std::optional<fem::FreeBlock> block_;
   Eigen::VectorXd M_vals_, K_vals_;
   std::array<Eigen::VectorXd, 9> Mij_vals_;
-  // The lock's memory (latch, contact onsets): a run's data, changed only by accept().
+  // The lock's memory (latch, contact onsets): a run's data, changed only by accept(). One run
+  // at a time per system: runs hold run_mutex() (see the bindings).
   mutable joint::LockHistory lock_history_;
+  mutable std::mutex run_mutex_;
   int nq_ = 0, nv_ = 0;
   int iq_theta_ = -1, iv_theta_ = -1, iq_d_ = -1, iv_d_ = -1;  // block offsets (-1: absent)
 };
