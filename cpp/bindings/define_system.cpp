@@ -139,7 +139,7 @@ void define_system(py::module_& m) {
 
   m.def("simulate_hinged",
         [](const HingedSystem& sys, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
-           double t_end, double dt, const AlphaParameters& p, bool reuse_jacobian) {
+           double t_end, double dt, const AlphaParameters& p, bool reuse_jacobian, double tolerance) {
           check_sizes(sys, q0, v0);
           deployfx::integrate::Trajectory tr;
           std::vector<HingedSystem::Outputs> out;
@@ -151,8 +151,10 @@ void define_system(py::module_& m) {
             newton.reuse_jacobian = reuse_jacobian;
             const deployfx::integrate::GeneralizedAlpha integrator(sys, p, newton);
             sys.reset_history();
-            tr = deployfx::integrate::run_fixed_step(
-                integrator, integrator.initial_state(0.0, q0, v0), t_end, dt,
+            deployfx::integrate::StepControl control;
+            control.tolerance = tolerance;
+            tr = deployfx::integrate::run(
+                integrator, integrator.initial_state(0.0, q0, v0), t_end, dt, control,
                 [&](const deployfx::integrate::AlphaState& s) { out.push_back(sys.outputs(s.q, s.v, s.t)); });
             factorizations = integrator.factorizations();
           }
@@ -177,5 +179,5 @@ void define_system(py::module_& m) {
           return d;
         },
         py::arg("system"), py::arg("q0"), py::arg("v0"), py::arg("t_end"), py::arg("dt"), py::arg("scheme"),
-        py::arg("reuse_jacobian") = true);
+        py::arg("reuse_jacobian") = true, py::arg("tolerance") = 0.0);
 }

@@ -21,6 +21,9 @@ inline pybind11::dict trajectory_dict(const deployfx::integrate::Trajectory& tr)
   d["v"] = V;
   d["newton_iterations"] = tr.newton_iterations;
   d["substeps"] = tr.substeps;
+  d["steps"] = tr.steps;
+  d["rejected"] = tr.rejected;
+  d["events"] = tr.events;
   d["failure"] = tr.failure;
   return d;
 }

@@ -102,8 +102,13 @@ class Model:
 
     def simulate(self, t_end: float, dt: float, scheme=GeneralizedAlpha(0.8),
                  series: Optional[Callable[["Model", dict], dict]] = None,
-                 units: Optional[dict] = None, metadata: Optional[dict] = None) -> Result:
+                 units: Optional[dict] = None, metadata: Optional[dict] = None,
+                 tolerance: Optional[float] = None) -> Result:
         """Run from rest at the stowed configuration to ``t_end`` (s) with output step ``dt`` (s).
+
+        ``tolerance`` (m or rad, absolute): error-controlled steps of at most ``dt``, keeping the
+        local displacement error estimate h^2 |beta - 1/6| |a_n+1 - a_n| below it; None: fixed
+        steps of ``dt``. Contact switches are located in time either way.
 
         ``series(model, raw)`` maps the engine's raw output (``t``, ``q``, ``v``, ``theta``,
         ``theta_rate``, ``spring_torque``, ``lock_force``, ``lock_torque``, ``kinetic_energy``,
@@ -121,13 +126,17 @@ class Model:
         q0 = self.system.initial_positions()
         v0 = np.zeros(self.system.num_velocities)
         start = time.perf_counter()
-        raw = _core.simulate_hinged(self.system, q0, v0, t_end, dt, scheme._params())
+        tol = 0.0 if tolerance is None else as_float("tolerance", tolerance)
+        if not (np.isfinite(tol) and tol >= 0):
+            raise ValueError(f"tolerance = {tol} is out of range: must be > 0 (m or rad) or None")
+        raw = _core.simulate_hinged(self.system, q0, v0, t_end, dt, scheme._params(), tolerance=tol)
         wall = time.perf_counter() - start
         out = series(self, raw) if series else {k: raw[k] for k in _RAW_SERIES}
         meta = dict(self.description)
         meta.update(metadata or {})
         meta.update(model=self.fidelity, dt=dt, t_end=t_end, integrator=_scheme_name(scheme),
-                    steps=int(round(t_end / dt)) if dt > 0 else 0, substeps=int(raw["substeps"]),
+                    steps=int(raw["steps"]), substeps=int(raw["substeps"]), rejected=int(raw["rejected"]),
+                    events=int(raw["events"]), tolerance=tolerance,
                     newton_iterations=int(np.sum(raw["newton_iterations"])),
                     factorizations=int(raw["factorizations"]), wall_time_s=wall)
         if raw["failure"]:

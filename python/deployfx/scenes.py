@@ -127,14 +127,16 @@ class Paper2016Scene:
              "body_angular_momentum": "N m s", "total_angular_momentum": "N m s",
              "total_linear_momentum": "N s", "kinetic_energy": "J", "potential_energy": "J"}
 
-    def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.8)) -> Result:
+    def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.8),
+                 tolerance: Optional[float] = None) -> Result:
         """Deployment from stowed (90 deg) at rest for ``t_end`` s with output step ``dt`` s.
         Series: ``t`` (s), ``deployment_angle`` (deg, 90 stowed, 180 deployed), ``spring_torque``
         (N m), ``lock_force`` (N), ``node_E_deflection`` and ``node_mid_deflection`` (m,
         transverse, appendage frame), ``body_attitude`` (deg, rotation vector of the body),
         ``body_angular_momentum``, ``total_angular_momentum`` (N m s, world axes about the
-        initial centre of mass), energies (J)."""
-        return self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS)
+        initial centre of mass), energies (J). ``tolerance``: see :meth:`Model.simulate`."""
+        return self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS,
+                                   tolerance=tolerance)
 
 
 def paper2016(layup: int = 2, model: str = "nonlinear", **overrides) -> Paper2016Scene:
@@ -184,7 +186,7 @@ class SpinUpBeamScene:
         self.tip_nodes = [nx, 2 * nx + 1]  # (x = L, y = 0) and (x = L, y = b)
 
     def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.9),
-                 divergence_limit: Optional[float] = None) -> Result:
+                 divergence_limit: Optional[float] = None, tolerance: Optional[float] = None) -> Result:
         """Spin-up from rest. Series ``t`` (s), ``tip_deflection`` (m, transverse to the beam in
         the rotating frame, in the plane of rotation, positive in the direction of rotation as in
         Kane et al.: the tip lags, so it is negative during spin-up), ``hub_angle`` (rad).
@@ -193,7 +195,8 @@ class SpinUpBeamScene:
         the series up to then in ``.result`` (the linear model above omega_1 = 3.80 rad/s)."""
         limit = 0.5 * self.length if divergence_limit is None else float(divergence_limit)
         try:
-            result = self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS)
+            result = self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS,
+                                         tolerance=tolerance)
         except SimulationError as e:
             result, failure = e.result, str(e)
         else:

@@ -67,6 +67,7 @@ class GeneralizedAlpha {
   /// Returns the number of Newton iterations.
   int step(AlphaState& s, double h) const;
   const SecondOrderSystem& system() const { return sys_; }
+  const AlphaParameters& parameters() const { return p_; }
   /// Numeric factorizations of the iteration matrix so far.
   long factorizations() const { return solver_.factorizations(); }
 

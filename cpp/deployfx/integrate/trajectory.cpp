@@ -43,7 +43,14 @@ double first_switch(const Eigen::VectorXd& g0, const Eigen::VectorXd& g) {
 
 Trajectory run_fixed_step(const GeneralizedAlpha& integrator, AlphaState s, double t_end, double h,
                           const Observer& observe) {
+  return run(integrator, std::move(s), t_end, h, StepControl{}, observe);
+}
+
+Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, double h,
+               const StepControl& control, const Observer& observe) {
   require_positive("dt", h, "(s)");
+  if (!(control.tolerance >= 0 && std::isfinite(control.tolerance)))
+    throw_out_of_range("tolerance", control.tolerance, ">= 0 (m or rad; 0: fixed steps)");
   require_finite("t_end", t_end, "(s)");
   if (t_end < s.t) throw_out_of_range("t_end", t_end, ">= the start time");
   const SecondOrderSystem& sys = integrator.system();
@@ -59,20 +66,38 @@ Trajectory run_fixed_step(const GeneralizedAlpha& integrator, AlphaState s, doub
   sys.accept(s.q, s.v, s.t);
   record();
   const double t0 = s.t;
+  const bool adaptive = control.tolerance > 0;
+  const auto& p = integrator.parameters();
+  double h_try = adaptive ? std::min(h, control.initial_step > 0 ? control.initial_step : 0.1 * h) : h;
   for (long k = 1; k <= steps; ++k) {
     const double target = k == steps ? t_end : t0 + k * h;  // no round-off drift in output times
     int iterations = 0;
     try {
       while (target - s.t > 1e-12 * std::max(1.0, std::abs(target))) {
-        const double h_k = target - s.t;
+        const double h_k = adaptive ? std::min(h_try, target - s.t) : target - s.t;
         AlphaState trial = s;
         iterations += advance(integrator, trial, h_k, 0, &tr.substeps);
+        if (adaptive) {
+          // Local error of the Newmark-family displacement update, h^2 (beta - 1/6)(a_n+1 - a_n)
+          // (Zienkiewicz & Xie, Earthquake Eng. Struct. Dyn. 20, 1991, 871-887), in the
+          // coordinates' own units (m, rad), against the absolute tolerance.
+          const double err = h_k * h_k * std::abs(p.beta - 1.0 / 6.0) *
+                             (trial.a - s.a).lpNorm<Eigen::Infinity>() / control.tolerance;
+          const double factor = err > 0 ? 0.9 * std::pow(err, -1.0 / 3.0) : 2.0;
+          if (err > 1 && h_k > control.min_step) {
+            h_try = std::max(std::max(0.2, factor) * h_k, control.min_step);
+            ++tr.rejected;
+            continue;
+          }
+          h_try = std::min(std::min(2.0, factor) * h_k, h);
+        }
         const Eigen::VectorXd g0 = sys.gaps(s.q, s.v, s.t);
         const double G1 = first_switch(g0, sys.gaps(trial.q, trial.v, trial.t));
         if (G1 > 0) {
           s = std::move(trial);
           s.t = std::abs(s.t - target) < 1e-12 * std::max(1.0, std::abs(target)) ? target : s.t;
           sys.accept(s.q, s.v, s.t);
+          ++tr.steps;
           continue;
         }
         // Locate the first root of G in (0, h_k]: secant with the Illinois modification, falling
@@ -101,6 +126,7 @@ Trajectory run_fixed_step(const GeneralizedAlpha& integrator, AlphaState s, doub
         s = std::move(best);
         sys.accept(s.q, s.v, s.t);
         ++tr.events;
+        ++tr.steps;
         if (target - s.t > 1e-12 * std::max(1.0, std::abs(target))) {
           tr.newton_iterations.push_back(iterations);
           iterations = 0;

@@ -16,19 +16,34 @@
 
 namespace deployfx::integrate {
 
+/// Step-size control: tolerance <= 0 keeps the step fixed at the output step dt. Otherwise steps
+/// are chosen (at most dt, at least min_step) so that the local displacement error estimate stays
+/// below `tolerance` (absolute, in the coordinates' units: m and rad); rejected steps are redone.
+struct StepControl {
+  double tolerance = 0;     ///< m or rad; 0: fixed step
+  double initial_step = 0;  ///< s; 0: dt / 10
+  double min_step = 1e-9;   ///< s
+};
+
 struct Trajectory {
   std::vector<double> t;                // recorded times (output steps and contact onsets), s
   std::vector<Eigen::VectorXd> q, v;    // per recorded time
   std::vector<int> newton_iterations;   // per recorded interval (summed over its substeps)
   long substeps = 0;                    // integrator steps taken (event searches included)
-  long events = 0;                      // contact onsets located
+  long events = 0;                      // contact switches located
+  long steps = 0;                       // accepted integrator steps (the outer ones)
+  long rejected = 0;                    // steps rejected by the error control
   std::string failure;                  // empty when t_end was reached
 };
 
 /// Called with the state at each recorded time, after the system's history was updated.
 using Observer = std::function<void(const AlphaState&)>;
 
-/// Throws std::invalid_argument for h <= 0 or t_end < t0.
+/// Output every dt = h (and at located events), with the step control `control`.
+/// Throws std::invalid_argument for h <= 0, t_end < t0 or a negative tolerance.
+Trajectory run(const GeneralizedAlpha& integrator, AlphaState state, double t_end, double h,
+               const StepControl& control, const Observer& observe = {});
+/// run() with fixed steps.
 Trajectory run_fixed_step(const GeneralizedAlpha& integrator, AlphaState state, double t_end, double h,
                           const Observer& observe = {});
 
