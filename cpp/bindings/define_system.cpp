@@ -63,7 +63,7 @@ void define_system(py::module_& m) {
                        const std::string& fidelity, const Eigen::Vector3d& base_com,
                        double fitting_mass, const Eigen::Vector3d& fitting_com,
                        const Eigen::Matrix3d& fitting_inertia,
-                       std::optional<deployfx::joint::HingeLockSpec> lock) {
+                       std::optional<deployfx::joint::HingeLockSpec> lock, double alpha_M, double beta_K) {
              BaseSpec b{base_free, {base_mass, base_com, base_inertia}};
              HingeSpec h;
              h.fitting = {fitting_mass, fitting_com, fitting_inertia};
@@ -76,7 +76,7 @@ void define_system(py::module_& m) {
              h.c_theta = c_theta;
              if (spin_up) h.driven = true, h.driver = {spin_up->first, spin_up->second};
              AppendageSpec a{std::make_shared<const deployfx::fem::ShellModel>(model),
-                             std::move(fixed_dofs), parse_fidelity(fidelity)};
+                             std::move(fixed_dofs), parse_fidelity(fidelity), alpha_M, beta_K};
              return std::make_unique<HingedSystem>(b, h, a);
            }),
            py::arg("base_free"), py::arg("base_mass"), py::arg("base_inertia"),
@@ -84,7 +84,8 @@ void define_system(py::module_& m) {
            py::arg("k_theta"), py::arg("c_theta"), py::arg("spin_up"), py::arg("model"),
            py::arg("fixed_dofs"), py::arg("fidelity"), py::arg("base_com") = Eigen::Vector3d::Zero(),
            py::arg("fitting_mass") = 0.0, py::arg("fitting_com") = Eigen::Vector3d::Zero(),
-           py::arg("fitting_inertia") = Eigen::Matrix3d::Zero().eval(), py::arg("lock") = py::none())
+           py::arg("fitting_inertia") = Eigen::Matrix3d::Zero().eval(), py::arg("lock") = py::none(),
+           py::arg("alpha_M") = 0.0, py::arg("beta_K") = 0.0)
       .def_property_readonly("num_positions", &HingedSystem::num_positions)
       .def_property_readonly("num_velocities", &HingedSystem::num_velocities)
       .def("initial_positions", &HingedSystem::initial_positions)

@@ -83,7 +83,8 @@ def _write_csv(result, path: Path) -> None:
         unit = result.units.get(name, "")
         if a.ndim == 1:
             df_cols.append((f"{name} ({unit})", a))
-        else:
+        elif a.ndim > 2:
+            continue  # fields over the mesh (node displacements) are saved with Result.save
             for j, axis in enumerate("xyz"[: a.shape[1]]):
                 df_cols.append((f"{name}_{axis} ({unit})", a[:, j]))
     with open(path, "w", newline="") as fh:

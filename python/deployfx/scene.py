@@ -100,6 +100,17 @@ class Model:
         n = self.shell.num_dofs
         return np.setdiff1d(np.arange(n), np.asarray(self.fixed_dofs, dtype=int))
 
+    def node_displacements(self, q: np.ndarray) -> np.ndarray:
+        """Node translations in the appendage frame E (m), shape (len(q), nodes, 3), from recorded
+        coordinates ``q`` (the raw ``q`` series); zeros for a rigid appendage."""
+        q = np.atleast_2d(q)
+        n_nodes = self.shell.num_dofs // 6 if self.shell is not None else 0
+        full = np.zeros((len(q), 6 * n_nodes))
+        free = self.free_dofs
+        if free.size:
+            full[:, free] = q[:, self.system.num_positions - free.size:]
+        return full.reshape(len(q), n_nodes, 6)[:, :, :3]
+
     def simulate(self, t_end: float, dt: float, scheme=GeneralizedAlpha(0.8),
                  series: Optional[Callable[["Model", dict], dict]] = None,
                  units: Optional[dict] = None, metadata: Optional[dict] = None,
@@ -131,7 +142,12 @@ class Model:
             raise ValueError(f"tolerance = {tol} is out of range: must be > 0 (m or rad) or None")
         raw = _core.simulate_hinged(self.system, q0, v0, t_end, dt, scheme._params(), tolerance=tol)
         wall = time.perf_counter() - start
-        out = series(self, raw) if series else {k: raw[k] for k in _RAW_SERIES}
+        if series:
+            out = series(self, raw)
+        else:
+            out = {k: raw[k] for k in _RAW_SERIES}
+            out["q"] = raw["q"]
+            out["node_displacements"] = self.node_displacements(raw["q"])
         meta = dict(self.description)
         meta.update(metadata or {})
         meta.update(model=self.fidelity, dt=dt, t_end=t_end, integrator=_scheme_name(scheme),
@@ -150,7 +166,8 @@ class Model:
 
 _RAW_SERIES = ("t", "theta", "theta_rate", "spring_torque", "lock_force", "lock_torque", "kinetic_energy",
                "potential_energy", "linear_momentum", "angular_momentum", "base_angular_momentum")
-_RAW_UNITS = {"t": "s", "theta": "rad", "theta_rate": "rad/s", "spring_torque": "N m", "lock_force": "N",
+_RAW_UNITS = {"q": "m, rad (base position, quaternion, hinge angle, elastic dofs)",
+              "node_displacements": "m", "t": "s", "theta": "rad", "theta_rate": "rad/s", "spring_torque": "N m", "lock_force": "N",
               "lock_torque": "N m", "kinetic_energy": "J", "potential_energy": "J", "linear_momentum": "N s",
               "angular_momentum": "N m s", "base_angular_momentum": "N m s"}
 
@@ -213,10 +230,13 @@ class Scene:
                            c_theta=as_float("hinge.c_theta", c_theta), fitting=fitting, spin_up=spin_up)
         return self
 
-    def set_appendage(self, shell: ShellModel, fixed_dofs: Sequence[int], fidelity: str = "nonlinear") -> "Scene":
+    def set_appendage(self, shell: ShellModel, fixed_dofs: Sequence[int], fidelity: str = "nonlinear",
+                      damping: tuple[float, float] = (0.0, 0.0)) -> "Scene":
         """The appendage: a shell mesh with node coordinates in E (m), the dofs clamped to E (its
         root edge) and the fidelity: "rigid" (one rigid body: the mesh's mass distribution),
-        "linear" (linear strain) or "nonlinear" (Green strain, You et al. 2016 Eq. 14)."""
+        "linear" (linear strain) or "nonlinear" (Green strain, You et al. 2016 Eq. 14).
+        ``damping = (alpha_M, beta_K)``: structural Rayleigh damping C = alpha_M M + beta_K K
+        (1/s, s), a modal damping ratio (alpha_M / omega + beta_K omega) / 2."""
         if not isinstance(shell, ShellModel):
             raise TypeError(f"shell must be a deployfx.ShellModel, got {type(shell).__name__}")
         if fidelity not in FIDELITIES:
@@ -224,7 +244,11 @@ class Scene:
         fixed = sorted({int(i) for i in fixed_dofs})
         if fixed and (fixed[0] < 0 or fixed[-1] >= shell.num_dofs):
             raise ValueError(f"fixed_dofs must lie in [0, {shell.num_dofs})")
-        self._appendage = dict(shell=shell, fixed=tuple(fixed), fidelity=fidelity)
+        if len(damping) != 2:
+            raise ValueError(f"damping must be (alpha_M, beta_K), got {damping!r}")
+        alpha_M, beta_K = (as_float(f"appendage.{k}", v) for k, v in zip(("alpha_M", "beta_K"), damping))
+        self._appendage = dict(shell=shell, fixed=tuple(fixed), fidelity=fidelity, alpha_M=alpha_M,
+                               beta_K=beta_K)
         return self
 
     def set_lock(self, theta_lock: float, pin_radius: float, clearance: float, law: ContactLaw,
@@ -262,6 +286,7 @@ class Scene:
                                     h["point"], h["axis"], h["R_BE0"], h["tau0"], h["k_theta"], h["c_theta"],
                                     h["spin_up"], a["shell"]._impl, list(a["fixed"]), a["fidelity"],
                                     base_com=base.com, fitting_mass=f.mass, fitting_com=f.com,
-                                    fitting_inertia=f.inertia, lock=lock)
+                                    fitting_inertia=f.inertia, lock=lock, alpha_M=a["alpha_M"],
+                                    beta_K=a["beta_K"])
         return Model(system=system, shell=a["shell"], fidelity=a["fidelity"], base_free=free,
                      has_lock=lock is not None, fixed_dofs=a["fixed"], description=dict(description or {}))

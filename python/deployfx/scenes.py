@@ -71,6 +71,9 @@ class Paper2016Parameters:
     contact: ContactLaw = ContactLaw("paper", K=1e6 / (1e-3) ** 1.5, n=1.5, D=1e6)  #: 1e6 N/mm^1.5, 1e3 N s/mm
     friction: Friction = Friction(0.25)         #: mu = 0.25
     base_free: bool = True
+    #: Structural damping of the appendage, Rayleigh (alpha_M 1/s, beta_K s) (choice: the paper
+    #: gives none; beta_K = 4e-3 s is 1 % of critical at the first mode, 0.8 Hz)
+    damping: tuple = (0.0, 4e-3)
 
 
 class Paper2016Scene:
@@ -91,7 +94,7 @@ class Paper2016Scene:
                  .set_hinge(point=(p.hinge_x, 0.0, 0.0), axis=(0.0, 1.0, 0.0), R_BE0=_Ry(-np.pi / 2),
                             tau0=p.tau0, k_theta=p.k_theta, c_theta=p.c_theta,
                             fitting_inertia=p.fitting_inertia)
-                 .set_appendage(shell, plate.fixed_dofs("CFFF"), p.model))
+                 .set_appendage(shell, plate.fixed_dofs("CFFF"), p.model, damping=p.damping))
         if p.lock:
             scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, p.friction)
         self.model = scene.compile(description={"scene": "paper2016", "layup": p.layup,
@@ -120,12 +123,14 @@ class Paper2016Scene:
             "total_linear_momentum": raw["linear_momentum"],
             "kinetic_energy": raw["kinetic_energy"],
             "potential_energy": raw["potential_energy"],
+            "node_displacements": model.node_displacements(q),
         }
 
     UNITS = {"t": "s", "deployment_angle": "deg", "deployment_rate": "deg/s", "spring_torque": "N m",
              "lock_force": "N", "node_E_deflection": "m", "node_mid_deflection": "m", "body_attitude": "deg",
              "body_angular_momentum": "N m s", "total_angular_momentum": "N m s",
-             "total_linear_momentum": "N s", "kinetic_energy": "J", "potential_energy": "J"}
+             "total_linear_momentum": "N s", "kinetic_energy": "J", "potential_energy": "J",
+             "node_displacements": "m"}
 
     def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.8),
                  tolerance: Optional[float] = None) -> Result:
@@ -134,7 +139,8 @@ class Paper2016Scene:
         (N m), ``lock_force`` (N), ``node_E_deflection`` and ``node_mid_deflection`` (m,
         transverse, appendage frame), ``body_attitude`` (deg, rotation vector of the body),
         ``body_angular_momentum``, ``total_angular_momentum`` (N m s, world axes about the
-        initial centre of mass), energies (J). ``tolerance``: see :meth:`Model.simulate`."""
+        initial centre of mass), energies (J), ``node_displacements`` (m, (n, nodes, 3), in the
+        appendage frame). ``tolerance``: see :meth:`Model.simulate`."""
         return self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS,
                                    tolerance=tolerance)
 

@@ -71,6 +71,10 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
     require_finite("spin_up.omega_s", hinge_.driver.omega_s, "(rad/s)");
   }
   if (hinge_.lock) hinge_.lock->validate();
+  if (!(app_.alpha_M >= 0 && std::isfinite(app_.alpha_M)))
+    throw_out_of_range("appendage.alpha_M", app_.alpha_M, "finite and >= 0 (1/s)");
+  if (!(app_.beta_K >= 0 && std::isfinite(app_.beta_K)))
+    throw_out_of_range("appendage.beta_K", app_.beta_K, "finite and >= 0 (s)");
   flexible_ = app_.fidelity != Fidelity::kRigid;
   frame_rigid_ = hinge_.fitting;
   if (!flexible_) {
@@ -84,6 +88,7 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
   if (flexible_) {
     free_ = fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs);
     K_free_ = fem::restrict(app_.model->stiffness(), free_);
+    C_free_ = app_.alpha_M * fem::restrict(ffi_.M(), free_) + app_.beta_K * K_free_;
     // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
     block_.emplace(app_.model->stiffness(), free_);
     M_vals_ = block_->aligned(ffi_.M());
@@ -200,6 +205,7 @@ Eigen::VectorXd HingedSystem::residual(const Eigen::VectorXd& q, const Eigen::Ve
     } else {
       r.segment(iv_d_, num_elastic()) += K_free_ * q.segment(iq_d_, num_elastic());
     }
+    if (app_.alpha_M > 0 || app_.beta_K > 0) r.segment(iv_d_, num_elastic()) += C_free_ * v.segment(iv_d_, num_elastic());
   }
   return r;
 }
@@ -301,6 +307,7 @@ integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, 
   } else {
     vals += c_q * K_vals_;
   }
+  vals += c_v * (app_.alpha_M * M_vals_ + app_.beta_K * K_vals_);  // Rayleigh damping
   S.E = block_->with_values(vals);
   const Eigen::MatrixXd FB = k.R_BE * (c_v * dF_ddd + c_q * dF_dd);  // (3 x ndof)
   const Eigen::MatrixXd MB = k.R_BE * (c_v * dM_ddd + c_q * dM_dd);

@@ -1,0 +1,51 @@
+"""Structural (Rayleigh) damping of the appendage: C = alpha_M M + beta_K K gives each mode the
+damping ratio zeta = (alpha_M / omega + beta_K omega) / 2 (Clough & Penzien, Dynamics of
+Structures, 1993, Sec. 12-4). The spin-up beam's strip (first bending frequency 3.80 rad/s) is
+jerked by a short hub spin-up to 0.05 rad/s and then rings freely; the logarithmic decrement of
+its tip deflection over four cycles gives zeta, within 5 % of the prediction.
+"""
+import numpy as np
+import pytest
+
+import deployfx as dfx
+from deployfx import scenes
+
+OMEGA_1 = 3.7977  # rad/s, 1.87510^2 sqrt(EI / (rho A L^4)) for the spin-up beam
+
+
+def ringing(damping):
+    strip = scenes.spin_up_strip(20)
+    model = (dfx.Scene().set_base(1.0, 1.0, free=False)
+             .set_hinge(point=(0, 0, 0), axis=(0, 1, 0), spin_up=(0.05, 0.5))
+             .set_appendage(strip.model, strip.fixed_dofs("CFFF"), "linear", damping=damping)
+             .compile())
+    r = model.simulate(12.0, 0.005, scheme=dfx.integrators.Newmark())
+    tip = r.node_displacements[:, [20, 41], 2].mean(axis=1)
+    t = r.t
+    after = t > 1.0
+    w, tt = tip[after], t[after]
+    w = w - w[-400:].mean()  # about the quasi-static offset of the steady rotation (tiny)
+    peaks = [k for k in range(1, len(w) - 1) if w[k] > w[k - 1] and w[k] >= w[k + 1] and w[k] > 0]
+    return tt[peaks], w[peaks]
+
+
+@pytest.mark.parametrize("damping", [(0.0, 0.01), (0.2, 0.0)])
+def test_rayleigh_damping_ratio_from_the_logarithmic_decrement(damping):
+    alpha_M, beta_K = damping
+    zeta = 0.5 * (alpha_M / OMEGA_1 + beta_K * OMEGA_1)
+    tp, wp = ringing(damping)
+    assert len(wp) >= 5
+    n = 4
+    delta = np.log(wp[0] / wp[n]) / n
+    measured = delta / np.sqrt(4 * np.pi**2 + delta**2)
+    assert measured == pytest.approx(zeta, rel=0.05)
+    assert np.mean(np.diff(tp[: n + 1])) == pytest.approx(2 * np.pi / (OMEGA_1 * np.sqrt(1 - zeta**2)), rel=0.02)
+
+
+def test_negative_damping_is_rejected():
+    strip = scenes.spin_up_strip(4)
+    scene = (dfx.Scene().set_base(1.0, 1.0, free=False)
+             .set_hinge(point=(0, 0, 0), axis=(0, 1, 0), spin_up=(0.05, 0.5))
+             .set_appendage(strip.model, strip.fixed_dofs("CFFF"), "linear", damping=(0.0, -1e-3)))
+    with pytest.raises(ValueError, match="beta_K"):
+        scene.compile()
