@@ -160,12 +160,13 @@ void define_system(py::module_& m) {
             factorizations = integrator.factorizations();
           }
           const Eigen::Index n = static_cast<Eigen::Index>(out.size());
-          Eigen::MatrixXd P(n, 3), H(n, 3), Hb(n, 3), scalars(n, 7);
+          Eigen::MatrixXd P(n, 3), H(n, 3), Hb(n, 3), Pb(n, 3), scalars(n, 7);
           for (Eigen::Index k = 0; k < n; ++k) {
             const auto& o = out[k];
             P.row(k) = o.P_W.transpose();
             H.row(k) = o.H_W.transpose();
             Hb.row(k) = o.H_base_W.transpose();
+            Pb.row(k) = o.P_base_W.transpose();
             scalars.row(k) << o.theta, o.theta_rate, o.spring_torque, o.kinetic, o.potential,
                 o.lock_force, o.lock_torque;
           }
@@ -174,6 +175,7 @@ void define_system(py::module_& m) {
           d["linear_momentum"] = P;
           d["angular_momentum"] = H;
           d["base_angular_momentum"] = Hb;
+          d["base_linear_momentum"] = Pb;
           const char* names[] = {"theta", "theta_rate", "spring_torque", "kinetic_energy",
                                  "potential_energy", "lock_force", "lock_torque"};
           for (int c = 0; c < 7; ++c) d[names[c]] = Eigen::VectorXd(scalars.col(c));

@@ -124,7 +124,9 @@ class Model:
         ``series(model, raw)`` maps the engine's raw output (``t``, ``q``, ``v``, ``theta``,
         ``theta_rate``, ``spring_torque``, ``lock_force``, ``lock_torque``, ``kinetic_energy``,
         ``potential_energy``, ``linear_momentum``, ``angular_momentum``,
-        ``base_angular_momentum``) to the result's series; by default all of them are kept.
+        ``base_angular_momentum``, ``base_linear_momentum``; momenta in world axes, angular about
+        the world origin; the appendage's are the totals minus the base's) to the result's
+        series; by default all of them are kept, with ``q`` and ``node_displacements``.
         Raises :class:`~deployfx.integrators.SimulationError` with ``.result`` (the series up to
         the failure) if a step cannot be completed.
         """
@@ -165,11 +167,12 @@ class Model:
 
 
 _RAW_SERIES = ("t", "theta", "theta_rate", "spring_torque", "lock_force", "lock_torque", "kinetic_energy",
-               "potential_energy", "linear_momentum", "angular_momentum", "base_angular_momentum")
+               "potential_energy", "linear_momentum", "angular_momentum", "base_angular_momentum",
+               "base_linear_momentum")
 _RAW_UNITS = {"q": "m, rad (base position, quaternion, hinge angle, elastic dofs)",
               "node_displacements": "m", "t": "s", "theta": "rad", "theta_rate": "rad/s", "spring_torque": "N m", "lock_force": "N",
               "lock_torque": "N m", "kinetic_energy": "J", "potential_energy": "J", "linear_momentum": "N s",
-              "angular_momentum": "N m s", "base_angular_momentum": "N m s"}
+              "angular_momentum": "N m s", "base_angular_momentum": "N m s", "base_linear_momentum": "N s"}
 
 
 def _scheme_name(scheme) -> str:

@@ -121,6 +121,7 @@ class Paper2016Scene:
             "body_angular_momentum": raw["base_angular_momentum"],
             "total_angular_momentum": raw["angular_momentum"],
             "total_linear_momentum": raw["linear_momentum"],
+            "body_linear_momentum": raw["base_linear_momentum"],
             "kinetic_energy": raw["kinetic_energy"],
             "potential_energy": raw["potential_energy"],
             "node_displacements": model.node_displacements(q),
@@ -129,7 +130,7 @@ class Paper2016Scene:
     UNITS = {"t": "s", "deployment_angle": "deg", "deployment_rate": "deg/s", "spring_torque": "N m",
              "lock_force": "N", "node_E_deflection": "m", "node_mid_deflection": "m", "body_attitude": "deg",
              "body_angular_momentum": "N m s", "total_angular_momentum": "N m s",
-             "total_linear_momentum": "N s", "kinetic_energy": "J", "potential_energy": "J",
+             "total_linear_momentum": "N s", "body_linear_momentum": "N s", "kinetic_energy": "J", "potential_energy": "J",
              "node_displacements": "m"}
 
     def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.8),

@@ -337,6 +337,7 @@ HingedSystem::Momenta HingedSystem::momenta(const Kin& k) const {
   const auto pb = base_.inertia.momentum(k.V_B, k.w_B);
   const Eigen::Vector3d P_base_W = k.R_WB * pb.head<3>();
   m.H_base_W = k.r_W.cross(P_base_W) + k.R_WB * pb.tail<3>();
+  m.P_base_W = P_base_W;
   const auto pE = frame_momentum(k);
   const Eigen::Vector3d r_O = k.r_W + k.R_WB * hinge_.point_B;
   m.P_W = P_base_W + k.R_WE * pE.head<3>();
@@ -407,6 +408,7 @@ HingedSystem::Outputs HingedSystem::outputs(const Eigen::VectorXd& q, const Eige
   o.P_W = m.P_W;
   o.H_W = m.H_W;
   o.H_base_W = m.H_base_W;
+  o.P_base_W = m.P_base_W;
   o.kinetic = (base_.free ? base_.inertia.kinetic_energy(k.V_B, k.w_B) : 0.0) +
               frame_rigid_.kinetic_energy(k.V_E, k.w_E) +
               (flexible_ ? ffi_.kinetic_energy(k.V_E, k.w_E, k.d, k.dd) : 0.0);

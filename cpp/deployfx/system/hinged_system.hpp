@@ -104,6 +104,7 @@ class HingedSystem final : public integrate::SecondOrderSystem {
     double theta = 0, theta_rate = 0, spring_torque = 0;  // rad, rad/s, N m
     Eigen::Vector3d P_W, H_W;       // total linear (N s) and angular momentum about W's origin (N m s)
     Eigen::Vector3d H_base_W;       // the base's angular momentum about W's origin
+    Eigen::Vector3d P_base_W;       // the base's linear momentum (the appendage's: P_W - P_base_W)
     double kinetic = 0, potential = 0;  // J (spring + strain energy)
     double lock_force = 0, lock_torque = 0;  // N (normal, both walls), N m (on theta)
   };
@@ -118,7 +119,7 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   Eigen::VectorXd inertial_residual(const Kin& k, const Eigen::VectorXd& q) const;
   // E's momentum (appendage and fitting) about E's origin, E axes: (p_E, h_E).
   Eigen::Matrix<double, 6, 1> frame_momentum(const Kin& k) const;
-  struct Momenta { Eigen::Vector3d P_W, H_W, H_base_W; };
+  struct Momenta { Eigen::Vector3d P_W, H_W, H_base_W, P_base_W; };
   Momenta momenta(const Kin& k) const;
   void add_mass_matrix(const Kin& k, double c_a, integrate::BlockMatrix& S) const;
 
