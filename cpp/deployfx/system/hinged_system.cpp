@@ -88,7 +88,8 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
   if (flexible_) {
     free_ = fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs);
     K_free_ = fem::restrict(app_.model->stiffness(), free_);
-    C_free_ = app_.alpha_M * fem::restrict(ffi_.M(), free_) + app_.beta_K * K_free_;
+    M_free_ = fem::restrict(ffi_.M(), free_);
+    C_free_ = app_.alpha_M * M_free_ + app_.beta_K * K_free_;
     // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
     block_.emplace(app_.model->stiffness(), free_);
     M_vals_ = block_->aligned(ffi_.M());
@@ -205,7 +206,23 @@ Eigen::VectorXd HingedSystem::residual(const Eigen::VectorXd& q, const Eigen::Ve
     } else {
       r.segment(iv_d_, num_elastic()) += K_free_ * q.segment(iq_d_, num_elastic());
     }
-    if (app_.alpha_M > 0 || app_.beta_K > 0) r.segment(iv_d_, num_elastic()) += C_free_ * v.segment(iv_d_, num_elastic());
+    // Rayleigh damping. The stiffness-proportional part acts on the strain rate: beta_K K_L d'
+    // for linear strain, beta_K K_T(d) d' = beta_K d/dt f_int(d) for Green strain (K_L d' would
+    // damp the in-plane motion that large, inextensional bending needs, and stiffen the plate).
+    const auto dv = v.segment(iv_d_, num_elastic());
+    if (app_.fidelity == Fidelity::kNonlinear) {
+      if (app_.alpha_M > 0) r.segment(iv_d_, num_elastic()) += app_.alpha_M * (M_free_ * dv);
+      const double speed = k.dd.lpNorm<Eigen::Infinity>();
+      if (app_.beta_K > 0 && speed > 0) {  // K_T(d) d' by a central difference of f_int along d'
+        const double eps = 1e-6 / speed;
+        Eigen::VectorXd fp, fm;
+        app_.model->internal_force(k.d + eps * k.dd, &fp, nullptr);
+        app_.model->internal_force(k.d - eps * k.dd, &fm, nullptr);
+        for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) += app_.beta_K * (fp(free_[i]) - fm(free_[i])) / (2 * eps);
+      }
+    } else if (app_.alpha_M > 0 || app_.beta_K > 0) {
+      r.segment(iv_d_, num_elastic()) += C_free_ * dv;
+    }
   }
   return r;
 }
@@ -303,11 +320,11 @@ integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, 
   if (app_.fidelity == Fidelity::kNonlinear) {
     Eigen::SparseMatrix<double> KT;
     app_.model->internal_force(k.d, nullptr, &KT);  // K_L + K_L* + K_s, Eq. 19, 22, 23
-    block_->add(KT, c_q, vals);
+    block_->add(KT, c_q + c_v * app_.beta_K, vals);  // and the damping beta_K K_T (its d-derivative dropped)
   } else {
-    vals += c_q * K_vals_;
+    vals += (c_q + c_v * app_.beta_K) * K_vals_;
   }
-  vals += c_v * (app_.alpha_M * M_vals_ + app_.beta_K * K_vals_);  // Rayleigh damping
+  vals += c_v * app_.alpha_M * M_vals_;  // Rayleigh damping
   S.E = block_->with_values(vals);
   const Eigen::MatrixXd FB = k.R_BE * (c_v * dF_ddd + c_q * dF_dd);  // (3 x ndof)
   const Eigen::MatrixXd MB = k.R_BE * (c_v * dM_ddd + c_q * dM_dd);

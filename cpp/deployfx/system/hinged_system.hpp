@@ -64,8 +64,9 @@ struct AppendageSpec {
   std::shared_ptr<const fem::ShellModel> model;  ///< nodes in E (m)
   std::vector<int> fixed_dofs;                   ///< clamped to E (the root edge)
   Fidelity fidelity = Fidelity::kNonlinear;
-  /// Structural (Rayleigh) damping of the elastic dofs, C = alpha_M L_c + beta_K K_L
-  /// (1/s and s): a modal damping ratio (alpha_M / omega + beta_K omega) / 2.
+  /// Structural (Rayleigh) damping of the elastic dofs, C = alpha_M L_c + beta_K K (1/s and s):
+  /// a modal damping ratio (alpha_M / omega + beta_K omega) / 2. K is K_L for linear strain and
+  /// the tangent K_T(d) for Green strain (damping the strain rate, so rigid motion is undamped).
   double alpha_M = 0, beta_K = 0;
 };
 
@@ -133,7 +134,8 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   bool flexible_ = false;
   std::vector<int> free_;
   Eigen::SparseMatrix<double> K_free_;  // K_L on the free dofs
-  Eigen::SparseMatrix<double> C_free_;  // Rayleigh damping on the free dofs
+  Eigen::SparseMatrix<double> M_free_;  // L_c on the free dofs
+  Eigen::SparseMatrix<double> C_free_;  // Rayleigh damping on the free dofs (linear strain)
   // The elastic block of the Newton matrix on the mesh's node-block pattern, with the entries of
   // L_c, K_L and the nine M_ij aligned to it (a combination is a sum of value arrays).
   std::optional<fem::FreeBlock> block_;
