@@ -74,7 +74,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
   // away cannot make its own increments look small.
   const double scale = std::max(1.0, s.vdot.lpNorm<Eigen::Infinity>());
   bool refactor = !newton_.reuse_jacobian || factor_h_ != h;
-  double previous = 0, previous_r = std::numeric_limits<double>::infinity();
+  double previous = 0;
   for (int it = 1; it <= newton_.max_iterations; ++it) {
     const Eigen::VectorXd a1 = a_of(vdot);
     const Eigen::VectorXd q1 = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a1));
@@ -106,11 +106,11 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
     // Contraction rate of the (possibly modified) Newton iteration; its error estimate
     // rho/(1 - rho) |dv| (Hairer & Wanner, Solving ODEs II, Sec. IV.8) decides convergence.
     const double error = rho > 0 && rho < 1 ? size * rho / (1 - rho) : size;
-    const double r_norm = r.lpNorm<Eigen::Infinity>();
-    // Only a fresh matrix's increments measure the distance to the solution (review finding).
-    const bool stalling = it > 2 && r_norm > 0.5 * previous_r && size <= newton_.floor * scale;
+    // At the round-off floor: only an exact Newton step (a fresh matrix) below the floor is
+    // accepted (its update leaves an error of order size^2 / scale, or round-off); an old
+    // matrix's small steps prove nothing (review finding), so they trigger a fresh one.
+    const bool stalling = it > 1 && size <= newton_.floor * scale;
     const bool stalled = fresh && stalling;
-    previous_r = r_norm;
     if (error <= newton_.tolerance * scale || stalled) {
       const Eigen::VectorXd a_new = a_of(vdot);
       s.q = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a_new));

@@ -34,9 +34,9 @@ struct NewtonOptions {
   /// step accumulates in the energy at a rate independent of dt (1e-8 costs 5e-8 of the energy per
   /// second on the rigid deployment), hence 1e-10.
   double tolerance = 1e-10;
-  /// Accept, below this relative increment, once the residual stops falling (by less than half
-  /// an iteration): the round-off floor of the acceleration solve, about cond(M) eps (a light
-  /// hinge fitting against stiff root elements: 1e-7..1e-6).
+  /// Accept an exact Newton step (fresh matrix, after the first iteration) below this relative
+  /// size: the round-off floor of the acceleration solve, about cond(M) eps (a light hinge
+  /// fitting against stiff root elements: 1e-7..1e-6), where 1e-10 cannot be reached.
   double floor = 1e-5;
   /// Modified Newton: keep the factorized iteration matrix across iterations and steps while
   /// the iterations contract by at least `contraction` per iteration; refactor otherwise.
