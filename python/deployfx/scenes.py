@@ -34,12 +34,7 @@ def _Ry(angle: float) -> np.ndarray:
 
 def _transverse(model: Model, q: np.ndarray, nodes: list[int]) -> np.ndarray:
     """Mean transverse displacement (m, E's z) of ``nodes`` from the recorded coordinates."""
-    free = model.free_dofs
-    if free.size == 0:
-        return np.zeros(len(q))
-    offset = model.system.num_positions - free.size
-    cols = [offset + int(np.searchsorted(free, 6 * n + 2)) for n in nodes]
-    return q[:, cols].mean(axis=1)
+    return model.node_displacements(q)[:, nodes, 2].mean(axis=1)
 
 
 # --------------------------------------------------------------------------------------------
