@@ -373,6 +373,7 @@ def test_summary_is_computed_from_the_series():
     assert s["max_node_E_deflection_m"] == metrics.max_abs(r.node_E_deflection)
     assert s["body_attitude_change_deg"] == pytest.approx(0.04 * (1 - math.exp(-30.0)), rel=1e-12)
     assert s["momentum_drift"] == pytest.approx(1e-12 * (1 - math.cos(30.0)) / 2.0, rel=1e-3)
+    # steps and wall time are passed through from the metadata this test wrote (no timing here)
     assert (s["steps"], s["wall_time_s"]) == (3000, 1.25)
 
 
