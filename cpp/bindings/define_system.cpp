@@ -2,6 +2,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -140,11 +141,37 @@ void define_system(py::module_& m) {
 
   m.def("simulate_hinged",
         [](const HingedSystem& sys, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
-           double t_end, double dt, const AlphaParameters& p, bool reuse_jacobian, double tolerance) {
+           double t_end, double dt, const AlphaParameters& p, bool reuse_jacobian, double tolerance,
+           const py::object& progress) {
           check_sizes(sys, q0, v0);
           deployfx::integrate::Trajectory tr;
           std::vector<HingedSystem::Outputs> out;
           long factorizations = 0;
+          // Every 0.2 s of wall time the loop takes the GIL to answer Ctrl-C and report progress
+          // (progress(t, t_end)); either one stops the run, keeping what was computed.
+          auto last = std::chrono::steady_clock::now();
+          std::string stopped;
+          auto observe = [&](const deployfx::integrate::AlphaState& s) {
+            out.push_back(sys.outputs(s.q, s.v, s.t));
+            const auto now = std::chrono::steady_clock::now();
+            if (now - last < std::chrono::milliseconds(200)) return true;
+            last = now;
+            py::gil_scoped_acquire acquire;
+            if (PyErr_CheckSignals() != 0) {
+              PyErr_Clear();
+              stopped = "interrupted (Ctrl-C)";
+              return false;
+            }
+            if (!progress.is_none()) {
+              try {
+                progress(s.t, t_end);
+              } catch (py::error_already_set& e) {
+                stopped = std::string("the progress callback raised: ") + e.what();
+                return false;
+              }
+            }
+            return true;
+          };
           {
             py::gil_scoped_release release;
             const std::lock_guard<std::mutex> one_run_at_a_time(sys.run_mutex());
@@ -155,10 +182,10 @@ void define_system(py::module_& m) {
             deployfx::integrate::StepControl control;
             control.tolerance = tolerance;
             tr = deployfx::integrate::run(
-                integrator, integrator.initial_state(0.0, q0, v0), t_end, dt, control,
-                [&](const deployfx::integrate::AlphaState& s) { out.push_back(sys.outputs(s.q, s.v, s.t)); });
+                integrator, integrator.initial_state(0.0, q0, v0), t_end, dt, control, observe);
             factorizations = integrator.factorizations();
           }
+          if (!stopped.empty()) tr.failure = stopped + " at t = " + std::to_string(tr.t.back()) + " s";
           const Eigen::Index n = static_cast<Eigen::Index>(out.size());
           Eigen::MatrixXd P(n, 3), H(n, 3), Hb(n, 3), Pb(n, 3), scalars(n, 7);
           for (Eigen::Index k = 0; k < n; ++k) {
@@ -182,5 +209,5 @@ void define_system(py::module_& m) {
           return d;
         },
         py::arg("system"), py::arg("q0"), py::arg("v0"), py::arg("t_end"), py::arg("dt"), py::arg("scheme"),
-        py::arg("reuse_jacobian") = true, py::arg("tolerance") = 0.0);
+        py::arg("reuse_jacobian") = true, py::arg("tolerance") = 0.0, py::arg("progress") = py::none());
 }

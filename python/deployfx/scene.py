@@ -17,6 +17,7 @@ next step of issue 5.
 """
 from __future__ import annotations
 
+import sys
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Optional, Sequence
@@ -114,12 +115,16 @@ class Model:
     def simulate(self, t_end: float, dt: float, scheme=GeneralizedAlpha(0.8),
                  series: Optional[Callable[["Model", dict], dict]] = None,
                  units: Optional[dict] = None, metadata: Optional[dict] = None,
-                 tolerance: Optional[float] = None) -> Result:
+                 tolerance: Optional[float] = None, progress: Optional[bool] = None) -> Result:
         """Run from rest at the stowed configuration to ``t_end`` (s) with output step ``dt`` (s).
 
         ``tolerance`` (m or rad, absolute): error-controlled steps of at most ``dt``, keeping the
         local displacement error estimate h^2 |beta - 1/6| |a_n+1 - a_n| below it; None: fixed
         steps of ``dt``. Contact switches are located in time either way.
+
+        ``progress``: a tqdm progress bar (True), none (False), or by default one only when
+        standard error is a terminal (interactive use; scripts, notebooks' logs and CI stay
+        quiet). Ctrl-C stops the run within 0.2 s with a SimulationError holding the results.
 
         ``series(model, raw)`` maps the engine's raw output (``t``, ``q``, ``v``, ``theta``,
         ``theta_rate``, ``spring_torque``, ``lock_force``, ``lock_torque``, ``kinetic_energy``,
@@ -173,6 +178,30 @@ _RAW_UNITS = {"q": "m, rad (base position, quaternion, hinge angle, elastic dofs
               "node_displacements": "m", "t": "s", "theta": "rad", "theta_rate": "rad/s", "spring_torque": "N m", "lock_force": "N",
               "lock_torque": "N m", "kinetic_energy": "J", "potential_energy": "J", "linear_momentum": "N s",
               "angular_momentum": "N m s", "base_angular_momentum": "N m s", "base_linear_momentum": "N s"}
+
+
+class _Bar:
+    """A tqdm bar over simulated time (s)."""
+
+    def __init__(self, tqdm, t_end: float):
+        self._bar = tqdm(total=round(t_end, 6), unit="s", unit_scale=False, desc="deployfx",
+                         bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s [{elapsed}<{remaining}]")
+
+    def update_to(self, t: float, t_end: float) -> None:
+        self._bar.update(max(0.0, round(t, 6) - self._bar.n))
+
+    def close(self) -> None:
+        self._bar.close()
+
+
+def _progress_bar(t_end: float, progress: Optional[bool]) -> Optional[_Bar]:
+    if progress is None:
+        progress = sys.stderr is not None and sys.stderr.isatty()
+    if not progress:
+        return None
+    from tqdm.auto import tqdm
+
+    return _Bar(tqdm, t_end)
 
 
 def _scheme_name(scheme) -> str:

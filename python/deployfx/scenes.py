@@ -129,16 +129,16 @@ class Paper2016Scene:
              "node_displacements": "m"}
 
     def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.8),
-                 tolerance: Optional[float] = None) -> Result:
+                 tolerance: Optional[float] = None, progress: Optional[bool] = None) -> Result:
         """Deployment from stowed (90 deg) at rest for ``t_end`` s with output step ``dt`` s.
         Series: ``t`` (s), ``deployment_angle`` (deg, 90 stowed, 180 deployed), ``spring_torque``
         (N m), ``lock_force`` (N), ``node_E_deflection`` and ``node_mid_deflection`` (m,
         transverse, appendage frame), ``body_attitude`` (deg, rotation vector of the body),
         ``body_angular_momentum``, ``total_angular_momentum`` (N m s, world axes about the
         initial centre of mass), energies (J), ``node_displacements`` (m, (n, nodes, 3), in the
-        appendage frame). ``tolerance``: see :meth:`Model.simulate`."""
+        appendage frame). ``tolerance``, ``progress``: see :meth:`Model.simulate`."""
         return self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS,
-                                   tolerance=tolerance)
+                                   tolerance=tolerance, progress=progress)
 
 
 def paper2016(layup: int = 2, model: str = "nonlinear", **overrides) -> Paper2016Scene:

@@ -57,14 +57,19 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
   Trajectory tr;
   const long steps = std::lround(std::ceil((t_end - s.t) / h - 1e-9));
   tr.t.reserve(static_cast<std::size_t>(std::min(steps + 1, 1L << 20)));
+  bool stopped = false;
   auto record = [&] {
     tr.t.push_back(s.t);
     tr.q.push_back(s.q);
     tr.v.push_back(s.v);
-    if (observe) observe(s);
+    if (observe && !observe(s)) {
+      stopped = true;
+      tr.failure = "stopped by the caller at t = " + std::to_string(s.t) + " s";
+    }
   };
   sys.accept(s.q, s.v, s.t);
   record();
+  if (stopped) return tr;
   const double t0 = s.t;
   const bool adaptive = control.tolerance > 0;
   const auto& p = integrator.parameters();
@@ -131,6 +136,7 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
           tr.newton_iterations.push_back(iterations);
           iterations = 0;
           record();
+          if (stopped) return tr;
         }
       }
     } catch (const StepFailure& e) {
@@ -140,6 +146,7 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
     s.t = target;
     tr.newton_iterations.push_back(iterations);
     record();
+    if (stopped) return tr;
   }
   return tr;
 }

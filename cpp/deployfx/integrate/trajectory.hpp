@@ -36,8 +36,9 @@ struct Trajectory {
   std::string failure;                  // empty when t_end was reached
 };
 
-/// Called with the state at each recorded time, after the system's history was updated.
-using Observer = std::function<void(const AlphaState&)>;
+/// Called with the state at each recorded time, after the system's history was updated; returns
+/// false to stop the run there (the trajectory so far is kept, `failure` says when).
+using Observer = std::function<bool(const AlphaState&)>;
 
 /// Output every dt = h (and at located events), with the step control `control`.
 /// Throws std::invalid_argument for h <= 0, t_end < t0 or a negative tolerance.
