@@ -9,10 +9,10 @@ SI units throughout.
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import Plate, ShellModel
-from . import contact, integrators, metrics, paper2016, plot, scenes
+from . import contact, export, integrators, metrics, paper2016, plot, scenes
 from .results import Result, load
 from .scene import Model, Scene
 
 __all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model",
-           "Result", "load", "contact", "integrators", "metrics", "paper2016", "plot", "scenes"]
+           "Result", "load", "contact", "export", "integrators", "metrics", "paper2016", "plot", "scenes"]
 __version__ = "0.1.0"
