@@ -23,7 +23,9 @@ def Ry(a):
     return np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
 
 
-def make_system(fidelity, nx=4, ny=2, free=True, c_theta=0.0):
+def make_system(fidelity, nx=4, ny=2, free=True, c_theta=0.0, fitting=0.0):
+    """The paper's laminate (lay-up 2) on an nx x ny mesh; `fitting`: the hinge fitting's inertia,
+    kg m^2 (isotropic)."""
     plate = dfx.paper2016.appendage_plate(2, nx, ny)
     nodes = plate.model.nodes.copy()
     nodes[:, 0] += B_H          # root edge b_h from the hinge axis
@@ -32,7 +34,7 @@ def make_system(fidelity, nx=4, ny=2, free=True, c_theta=0.0):
     # Stowed (theta = 0) the appendage points along +z of B; deployed (theta = pi/2) along +x.
     return _core.HingedSystem(free, M_BASE, J_BASE * np.eye(3), P_HINGE, np.array([0.0, 1.0, 0.0]),
                               Ry(-np.pi / 2), TAU0, K_THETA, c_theta, None, model._impl,
-                              list(plate.fixed_dofs("CFFF")), fidelity)
+                              list(plate.fixed_dofs("CFFF")), fidelity, fitting_inertia=fitting * np.eye(3))
 
 
 def planar_reference():
@@ -128,25 +130,13 @@ def test_rigid_momentum_to_round_off_and_energy_to_1e_6_over_100_s():
     assert np.abs(E - E[0]).max() < 1e-6 * tr["kinetic_energy"].max()
 
 
-def make_flexible(fidelity, fitting=0.02):
-    """The paper's laminate on a 4 x 2 mesh with a hinge fitting of `fitting` kg m^2 (isotropic)."""
-    plate = dfx.paper2016.appendage_plate(2, 4, 2)
-    nodes = plate.model.nodes.copy()
-    nodes[:, 0] += B_H
-    nodes[:, 1] -= W / 2
-    model = dfx.ShellModel(nodes, plate.model.quads, plate.laminate)
-    return _core.HingedSystem(True, M_BASE, J_BASE * np.eye(3), P_HINGE, np.array([0.0, 1.0, 0.0]),
-                              Ry(-np.pi / 2), TAU0, K_THETA, 0.0, None, model._impl,
-                              list(plate.fixed_dofs("CFFF")), fidelity, fitting_inertia=fitting * np.eye(3))
-
-
 @pytest.mark.parametrize("fidelity", ["linear", "nonlinear"])
 def test_flexible_deployment_conserves_momentum_and_is_near_the_rigid_time(fidelity):
     # The paper's step (dt = 10 ms, rho_inf = 0.8) over the first deployment: momentum to round-off
     # (1e-12 of the base's peak), and the 180 deg crossing within 3 % of the rigid panel's
     # energy-quadrature time (the flexible panel lags and stores strain energy; it deploys a little
     # later, 2.48 s against 2.45 s on this mesh).
-    sys = make_flexible(fidelity)
+    sys = make_system(fidelity, fitting=0.02)
     tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 3.0, 0.01,
                                GeneralizedAlpha(0.8)._params())
     assert tr["failure"] == ""
@@ -164,7 +154,7 @@ def test_flexible_deployment_conserves_momentum_and_is_near_the_rigid_time(fidel
 def test_flexible_energy_is_conserved_without_numerical_damping(fidelity, tol):
     # Undamped, rho_inf = 1 (trapezoidal rule), dt = 2.5 ms, 1 s of deployment: the total energy
     # stays within `tol` of the peak kinetic energy (measured 4e-4 and 6e-5: O(dt^2) error).
-    sys = make_flexible(fidelity)
+    sys = make_system(fidelity, fitting=0.02)
     tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 1.0, 0.0025,
                                GeneralizedAlpha(1.0)._params())
     assert tr["failure"] == ""

@@ -55,10 +55,7 @@ void add_wall(const HingeLockSpec& lock, double s, double theta_w, double v0, do
   // Normal: torque -s r F_n; friction on the slip r theta' (opposing it), only while pushing.
   const auto Ft = Fn.F > 0 ? lock.friction.evaluate(r * rate, Fn.F) : contact::FrictionForce{};
   out.normal_force += Fn.F;
-  out.torque += -s * r * Fn.F + r * Ft.F_t;
-  const double dFn_dtheta = Fn.dF_ddelta * s * r, dFn_drate = Fn.dF_ddelta_dot * s * r;
-  out.dtorque_dtheta += -s * r * dFn_dtheta + r * Ft.dF_dF_n * dFn_dtheta;
-  out.dtorque_drate += -s * r * dFn_drate + r * (Ft.dF_dv_t * r + Ft.dF_dF_n * dFn_drate);
+  out.torque += -s * r * Fn.F + r * Ft.F_t;  // its theta- and rate-columns: the Newton matrix's differences
 }
 
 }  // namespace

@@ -39,10 +39,8 @@ struct LockHistory {
 };
 
 struct LockLoad {
-  double torque = 0;          ///< N m, on theta
-  double dtorque_dtheta = 0;  ///< N m/rad
-  double dtorque_drate = 0;   ///< N m s/rad
-  double normal_force = 0;    ///< N, sum over both walls (>= 0)
+  double torque = 0;        ///< N m, on theta
+  double normal_force = 0;  ///< N, sum over both walls (>= 0 between events)
 };
 
 LockLoad lock_load(const HingeLockSpec& lock, const LockHistory& history, double theta, double rate);

@@ -89,7 +89,6 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
     free_ = fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs);
     K_free_ = fem::restrict(app_.model->stiffness(), free_);
     M_free_ = fem::restrict(ffi_.M(), free_);
-    C_free_ = app_.alpha_M * M_free_ + app_.beta_K * K_free_;
     // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
     block_.emplace(app_.model->stiffness(), free_);
     M_vals_ = block_->aligned(ffi_.M());
@@ -210,8 +209,8 @@ Eigen::VectorXd HingedSystem::residual(const Eigen::VectorXd& q, const Eigen::Ve
     // for linear strain, beta_K K_T(d) d' = beta_K d/dt f_int(d) for Green strain (K_L d' would
     // damp the in-plane motion that large, inextensional bending needs, and stiffen the plate).
     const auto dv = v.segment(iv_d_, num_elastic());
+    if (app_.alpha_M > 0) r.segment(iv_d_, num_elastic()) += app_.alpha_M * (M_free_ * dv);
     if (app_.fidelity == Fidelity::kNonlinear) {
-      if (app_.alpha_M > 0) r.segment(iv_d_, num_elastic()) += app_.alpha_M * (M_free_ * dv);
       const double speed = k.dd.lpNorm<Eigen::Infinity>();
       if (app_.beta_K > 0 && speed > 0) {  // K_T(d) d' by a central difference of f_int along d'
         const double eps = 1e-6 / speed;
@@ -220,8 +219,8 @@ Eigen::VectorXd HingedSystem::residual(const Eigen::VectorXd& q, const Eigen::Ve
         app_.model->internal_force(k.d - eps * k.dd, &fm, nullptr);
         for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) += app_.beta_K * (fp(free_[i]) - fm(free_[i])) / (2 * eps);
       }
-    } else if (app_.alpha_M > 0 || app_.beta_K > 0) {
-      r.segment(iv_d_, num_elastic()) += C_free_ * dv;
+    } else if (app_.beta_K > 0) {
+      r.segment(iv_d_, num_elastic()) += app_.beta_K * (K_free_ * dv);
     }
   }
   return r;

@@ -135,7 +135,6 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   std::vector<int> free_;
   Eigen::SparseMatrix<double> K_free_;  // K_L on the free dofs
   Eigen::SparseMatrix<double> M_free_;  // L_c on the free dofs
-  Eigen::SparseMatrix<double> C_free_;  // Rayleigh damping on the free dofs (linear strain)
   // The elastic block of the Newton matrix on the mesh's node-block pattern, with the entries of
   // L_c, K_L and the nine M_ij aligned to it (a combination is a sum of value arrays).
   std::optional<fem::FreeBlock> block_;
