@@ -322,6 +322,24 @@ ModalResult lowest_modes(const SpMat& K, const SpMat& M, int n, std::optional<do
       throw_out_of_range("M(" + std::to_string(i) + ", " + std::to_string(i) + ")", md(i),
                          "> 0 (M must be positive definite)");
 
+  // Nearly all pairs wanted: a Krylov space of blocks of 6 cannot grow past ndof, so the dense
+  // generalised problem (Cholesky of M, then QR iterations) answers, for the same cost class.
+  if (n > ndof - 2 * kBlock) {
+    const MatrixXd Kd(K), Md(M);
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> dense(Kd, Md);
+    if (dense.info() != Eigen::Success) fail("the dense eigensolver failed: M must be positive definite");
+    ModalResult r;
+    r.eigenvalues = dense.eigenvalues().head(n);
+    r.modes.resize(ndof, n);
+    for (int j = 0; j < n; ++j) {
+      const VectorXd x = dense.eigenvectors().col(j);
+      Eigen::Index imax = 0;
+      x.cwiseAbs().maxCoeff(&imax);
+      r.modes.col(j) = x(imax) < 0 ? VectorXd(-x) : x;
+    }
+    return r;
+  }
+
   Solver solver(K, M);
   double sigma = 0;
   if (shift) {

@@ -25,7 +25,8 @@ struct ModalResult {
 /// negative sigma certified safe for the LDL^T (free structures).
 /// `tol` bounds each pair's residual ||Op x - nu x||_M <= tol nu, Op = (K - sigma M)^-1 M.
 /// Eigenvalues are sigma + 1/nu and are not clamped: rigid-body modes come out at round-off, of
-/// either sign. Each mode has its largest-magnitude component positive.
+/// either sign. Each mode has its largest-magnitude component positive. When nearly every pair is
+/// wanted (n > ndof - 12, beyond what blocks of 6 can span) the dense generalised solver answers.
 /// Throws std::invalid_argument (message names the parameter, value and allowed range) for bad
 /// input: n < 1 or n > ndof, non-square or mismatched sizes, non-finite entries, asymmetric K or
 /// M, a non-positive diagonal of M, tol outside [1e-14, 1e-2], a non-finite shift.
