@@ -4,6 +4,7 @@
 
 #include "deployfx/fem/constrained_solve.hpp"
 #include "deployfx/fem/modal.hpp"
+#include "deployfx/fem/modal_internal_force.hpp"
 #include "deployfx/fem/plate.hpp"
 #include "deployfx/fem/shell_model.hpp"
 
@@ -49,6 +50,25 @@ void define_fem(py::module_& m) {
         }
         return py::make_tuple(f, K);
       }, py::arg("u"));
+
+  py::class_<ModalInternalForce>(m, "ModalInternalForce",
+                                 "The shell model's internal force in a Ritz basis d = Phi eta, as an exact "
+                                 "polynomial (fem/modal_internal_force.hpp).")
+      .def(py::init([](const ShellModel& model, const Eigen::MatrixXd& Phi, bool green_strain) {
+             py::gil_scoped_release release;
+             return std::make_unique<ModalInternalForce>(model, Phi, green_strain);
+           }),
+           py::arg("model"), py::arg("basis"), py::arg("green_strain"))
+      .def_property_readonly("linear_stiffness", &ModalInternalForce::linear_stiffness)
+      .def("internal_force",
+           [](const ModalInternalForce& f, const Eigen::VectorXd& eta) {
+             Eigen::VectorXd out;
+             Eigen::MatrixXd T;
+             f.evaluate(eta, &out, &T);
+             return py::make_tuple(out, T);
+           },
+           py::arg("eta"))
+      .def("strain_energy", &ModalInternalForce::strain_energy, py::arg("eta"));
 
   py::class_<RectangularPlate>(m, "RectangularPlate")
       .def(py::init<double, double, const Laminate&, int, int>(), py::arg("length"),

@@ -36,7 +36,11 @@ Fidelity parse_fidelity(const std::string& s) {
   if (s == "rigid") return Fidelity::kRigid;
   if (s == "linear") return Fidelity::kLinear;
   if (s == "nonlinear") return Fidelity::kNonlinear;
-  throw std::invalid_argument("fidelity = '" + s + "' is invalid: must be 'rigid', 'linear' or 'nonlinear'");
+  if (s == "reduced-linear") return Fidelity::kReducedLinear;
+  if (s == "reduced-nonlinear") return Fidelity::kReducedNonlinear;
+  throw std::invalid_argument("fidelity = '" + s +
+                              "' is invalid: must be 'rigid', 'linear', 'nonlinear', 'reduced-linear' or "
+                              "'reduced-nonlinear'");
 }
 
 }  // namespace
@@ -64,7 +68,8 @@ void define_system(py::module_& m) {
                        const std::string& fidelity, const Eigen::Vector3d& base_com,
                        double fitting_mass, const Eigen::Vector3d& fitting_com,
                        const Eigen::Matrix3d& fitting_inertia,
-                       std::optional<deployfx::joint::HingeLockSpec> lock, double alpha_M, double beta_K) {
+                       std::optional<deployfx::joint::HingeLockSpec> lock, double alpha_M, double beta_K,
+                       int modes, int derivative_modes) {
              BaseSpec b{base_free, {base_mass, base_com, base_inertia}};
              HingeSpec h;
              h.fitting = {fitting_mass, fitting_com, fitting_inertia};
@@ -77,7 +82,8 @@ void define_system(py::module_& m) {
              h.c_theta = c_theta;
              if (spin_up) h.driven = true, h.driver = {spin_up->first, spin_up->second};
              AppendageSpec a{std::make_shared<const deployfx::fem::ShellModel>(model),
-                             std::move(fixed_dofs), parse_fidelity(fidelity), alpha_M, beta_K};
+                             std::move(fixed_dofs), parse_fidelity(fidelity), alpha_M, beta_K, modes,
+                             derivative_modes};
              return std::make_unique<HingedSystem>(b, h, a);
            }),
            py::arg("base_free"), py::arg("base_mass"), py::arg("base_inertia"),
@@ -86,9 +92,29 @@ void define_system(py::module_& m) {
            py::arg("fixed_dofs"), py::arg("fidelity"), py::arg("base_com") = Eigen::Vector3d::Zero(),
            py::arg("fitting_mass") = 0.0, py::arg("fitting_com") = Eigen::Vector3d::Zero(),
            py::arg("fitting_inertia") = Eigen::Matrix3d::Zero().eval(), py::arg("lock") = py::none(),
-           py::arg("alpha_M") = 0.0, py::arg("beta_K") = 0.0)
+           py::arg("alpha_M") = 0.0, py::arg("beta_K") = 0.0, py::arg("modes") = 10,
+           py::arg("derivative_modes") = -1)
       .def_property_readonly("num_positions", &HingedSystem::num_positions)
       .def_property_readonly("num_velocities", &HingedSystem::num_velocities)
+      .def_property_readonly("num_elastic", &HingedSystem::num_elastic)
+      .def_property_readonly(
+          "basis",
+          [](const HingedSystem& s) -> const Eigen::MatrixXd& { return s.basis().Phi; },
+          py::return_value_policy::reference_internal,
+          "Reduced models: mesh dofs = basis @ eta (read-only view); empty for a full model.")
+      .def_property_readonly(
+          "basis_info",
+          [](const HingedSystem& s) {
+            py::dict d;
+            d["modes"] = s.basis().modes;
+            d["static_corrections"] = s.basis().static_corrections;
+            d["modal_derivatives"] = s.basis().modal_derivatives;
+            d["size"] = static_cast<int>(s.basis().Phi.cols());
+            d["omega2"] = s.basis().omega2;
+            return d;
+          },
+          "Reduced models: the vectors proposed of each kind, the basis size and its Ritz values "
+          "((rad/s)^2).")
       .def("initial_positions", &HingedSystem::initial_positions)
       .def("retract",
            [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& dq) {

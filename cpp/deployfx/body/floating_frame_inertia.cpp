@@ -61,6 +61,24 @@ FloatingFrameInertia::FloatingFrameInertia(const fem::ShellModel& model) : M_(mo
   }
 }
 
+FloatingFrameInertia FloatingFrameInertia::projected(const Eigen::MatrixXd& Phi) const {
+  if (Phi.rows() != num_dofs())
+    throw std::invalid_argument("projected: the basis must have " + std::to_string(num_dofs()) + " rows");
+  FloatingFrameInertia p;
+  p.m_ = m_;
+  p.S0_ = S0_;
+  p.E0_ = E0_;
+  p.S1_ = S1_ * Phi;
+  p.C_ = C_ * Phi;
+  auto project = [&](const SparseMatrix& A) {
+    const Eigen::MatrixXd R = Phi.transpose() * (A * Phi);
+    return SparseMatrix(R.sparseView(0.0, 0.0));  // dense r x r: keep every nonzero
+  };
+  for (int k = 0; k < 9; ++k) p.Mij_[k] = project(Mij_[k]);
+  p.M_ = project(M_);
+  return p;
+}
+
 Eigen::Matrix3d FloatingFrameInertia::J0() const {
   return E0_.trace() * Eigen::Matrix3d::Identity() - E0_;
 }

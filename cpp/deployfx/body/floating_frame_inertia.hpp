@@ -26,6 +26,9 @@ class FloatingFrameInertia {
 
   /// The integrals over all dofs of `model`, whose world frame is taken as E.
   explicit FloatingFrameInertia(const fem::ShellModel& model);
+  /// The same integrals in Ritz coordinates, d = Phi eta ((ndof x r) basis): exact, since every
+  /// integral is linear or quadratic in d (S1 Phi, C Phi, Phi^T M_ij Phi, Phi^T M Phi).
+  FloatingFrameInertia projected(const Eigen::MatrixXd& Phi) const;
 
   int num_dofs() const { return static_cast<int>(S1_.cols()); }
   double mass() const { return m_; }                        ///< m_A, kg
@@ -78,6 +81,7 @@ class FloatingFrameInertia {
                                  const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const;
 
  private:
+  FloatingFrameInertia() = default;
   void check(const Eigen::VectorXd& d, const char* name) const;
   // Rows g_ij = d E_ij / dd contracted as tr(g) x - g x, with g_ij = [C-part] + z^T (M_ij + M_ij^T).
   Matrix3X contract_inertia(const Eigen::VectorXd& z, bool with_C, const Eigen::Vector3d& x) const;

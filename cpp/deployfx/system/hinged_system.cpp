@@ -1,6 +1,7 @@
 #include "deployfx/system/hinged_system.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -76,6 +77,7 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
   if (!(app_.beta_K >= 0 && std::isfinite(app_.beta_K)))
     throw_out_of_range("appendage.beta_K", app_.beta_K, "finite and >= 0 (s)");
   flexible_ = app_.fidelity != Fidelity::kRigid;
+  green_ = app_.fidelity == Fidelity::kNonlinear || app_.fidelity == Fidelity::kReducedNonlinear;
   frame_rigid_ = hinge_.fitting;
   if (!flexible_) {
     // The undeformed appendage as a rigid body, merged with the fitting (parallel axes).
@@ -85,7 +87,32 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
     const Eigen::Vector3d c = s / m;
     frame_rigid_ = {m, c, J_O - m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose())};
   }
-  if (flexible_) {
+  if (app_.fidelity == Fidelity::kReducedLinear || app_.fidelity == Fidelity::kReducedNonlinear) {
+    const int nfree = static_cast<int>(fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs).size());
+    if (!(app_.modes >= 1 && app_.modes <= nfree))
+      throw_out_of_range("appendage.modes", app_.modes, "in [1, " + std::to_string(nfree) + "] (the free dofs)");
+    // The loads E's acceleration puts on the appendage, int rho N^T a and int rho N^T (al x P):
+    // S1^T and H(0)^T (Eq. 28).
+    Eigen::MatrixXd loads(ffi_.num_dofs(), 6);
+    loads << ffi_.S1().transpose(), ffi_.rotation_coupling(Eigen::VectorXd::Zero(ffi_.num_dofs())).transpose();
+    if (!(app_.derivative_modes >= -1 && app_.derivative_modes <= app_.modes))
+      throw_out_of_range("appendage.derivative_modes", app_.derivative_modes, "in [0, modes] or -1 (automatic)");
+    const int derivatives = app_.derivative_modes >= 0 ? app_.derivative_modes : std::min(app_.modes, 6);
+    basis_ = fem::ritz_basis(*app_.model, app_.fixed_dofs, {app_.modes, true, green_ ? derivatives : 0}, loads);
+    modal_.emplace(*app_.model, basis_.Phi, green_);
+    ffi_ = ffi_.projected(basis_.Phi);
+    const int r = modal_->size();
+    free_.resize(r);
+    for (int i = 0; i < r; ++i) free_[i] = i;
+    K_free_ = modal_->linear_stiffness().sparseView(0.0, 0.0);
+    M_free_ = ffi_.M();
+    // A dense r x r elastic block: its pattern stores every entry, column-major.
+    block_.emplace(Eigen::SparseMatrix<double>(Eigen::MatrixXd::Ones(r, r).sparseView()), free_);
+    M_vals_ = block_->aligned(ffi_.M());
+    K_vals_ = block_->aligned(K_free_);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Mij_vals_[3 * i + j] = block_->aligned(ffi_.Mij(i, j));
+  } else if (flexible_) {
     free_ = fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs);
     K_free_ = fem::restrict(app_.model->stiffness(), free_);
     M_free_ = fem::restrict(ffi_.M(), free_);
@@ -197,7 +224,16 @@ Eigen::VectorXd HingedSystem::residual(const Eigen::VectorXd& q, const Eigen::Ve
                                        const Eigen::VectorXd& a, double t) const {
   const Kin k = kinematics(q, v, &a, t);
   Eigen::VectorXd r = inertial_residual(k, q);
-  if (iv_d_ >= 0) {
+  if (iv_d_ >= 0 && modal_ && green_) {
+    // Reduced Green strain: the polynomial force and, for damping, its exact tangent.
+    const auto eta = q.segment(iq_d_, num_elastic());
+    const auto rate = v.segment(iv_d_, num_elastic());
+    Eigen::VectorXd f;
+    Eigen::MatrixXd T;
+    modal_->evaluate(eta, &f, app_.beta_K > 0 ? &T : nullptr);
+    r.segment(iv_d_, num_elastic()) += f + app_.alpha_M * (M_free_ * rate);
+    if (app_.beta_K > 0) r.segment(iv_d_, num_elastic()) += app_.beta_K * (T * rate);
+  } else if (iv_d_ >= 0) {
     if (app_.fidelity == Fidelity::kNonlinear) {
       Eigen::VectorXd f_int;
       app_.model->internal_force(k.d, &f_int, nullptr);  // Eq. 14 (Green strain)
@@ -316,7 +352,11 @@ integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, 
     for (int m = 0; m < 3; ++m)
       vals += c_q * (w(i) * w(m) - (i == m ? w.squaredNorm() : 0.0)) * Mij_vals_[3 * i + m];
   }
-  if (app_.fidelity == Fidelity::kNonlinear) {
+  if (modal_ && green_) {
+    Eigen::MatrixXd T;  // dense, column-major: the block's value order
+    modal_->evaluate(k.d, nullptr, &T);
+    vals += (c_q + c_v * app_.beta_K) * Eigen::Map<const Eigen::VectorXd>(T.data(), T.size());
+  } else if (app_.fidelity == Fidelity::kNonlinear) {
     Eigen::SparseMatrix<double> KT;
     app_.model->internal_force(k.d, nullptr, &KT);  // K_L + K_L* + K_s, Eq. 19, 22, 23
     block_->add(KT, c_q + c_v * app_.beta_K, vals);  // and the damping beta_K K_T (its d-derivative dropped)
@@ -431,8 +471,9 @@ HingedSystem::Outputs HingedSystem::outputs(const Eigen::VectorXd& q, const Eige
   o.potential = -hinge_.tau0 * k.theta + 0.5 * hinge_.k_theta * k.theta * k.theta;
   if (iq_d_ >= 0) {
     const Eigen::VectorXd df = q.segment(iq_d_, num_elastic());
-    o.potential += app_.fidelity == Fidelity::kNonlinear ? app_.model->strain_energy(k.d)
-                                                         : 0.5 * df.dot(K_free_ * df);
+    o.potential += modal_ && green_ ? modal_->strain_energy(df)
+                   : green_         ? app_.model->strain_energy(k.d)
+                                    : 0.5 * df.dot(K_free_ * df);
   }
   return o;
 }

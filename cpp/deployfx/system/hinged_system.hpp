@@ -22,13 +22,17 @@
 #include "deployfx/body/floating_frame_inertia.hpp"
 #include "deployfx/body/rigid_inertia.hpp"
 #include "deployfx/fem/free_block.hpp"
+#include "deployfx/fem/modal_internal_force.hpp"
+#include "deployfx/fem/ritz_basis.hpp"
 #include "deployfx/fem/shell_model.hpp"
 #include "deployfx/integrate/second_order_system.hpp"
 #include "deployfx/joint/hinge_lock.hpp"
 
 namespace deployfx::system {
 
-enum class Fidelity { kRigid, kLinear, kNonlinear };
+/// The appendage's model: one rigid body; finite elements with linear or Green strain (Eq. 14);
+/// or the same two reduced to a Ritz basis (fem/ritz_basis.hpp) of a few modes.
+enum class Fidelity { kRigid, kLinear, kNonlinear, kReducedLinear, kReducedNonlinear };
 
 struct BaseSpec {
   bool free = true;
@@ -68,6 +72,12 @@ struct AppendageSpec {
   /// a modal damping ratio (alpha_M / omega + beta_K omega) / 2. K is K_L for linear strain and
   /// the tangent K_T(d) for Green strain (damping the strain rate, so rigid motion is undamped).
   double alpha_M = 0, beta_K = 0;
+  /// Reduced fidelities: the clamped vibration modes kept; the basis adds the static corrections
+  /// and, for Green strain, the modal derivatives of every pair among the first
+  /// `derivative_modes` modes (-1: min(modes, 6); fewer lets the bending stretch the mid-surface,
+  /// a spurious stiffening: docs/engine-design.md).
+  int modes = 10;
+  int derivative_modes = -1;
 };
 
 class HingedSystem final : public integrate::SecondOrderSystem {
@@ -77,6 +87,9 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   int num_positions() const override { return nq_; }
   int num_velocities() const override { return nv_; }
   int num_elastic() const { return static_cast<int>(free_.size()); }
+  /// The reduced model's basis (all mesh dofs x elastic coordinates; empty for a full model):
+  /// mesh displacements d = basis() eta.
+  const fem::RitzBasis& basis() const { return basis_; }
   Eigen::VectorXd retract(const Eigen::VectorXd& q, const Eigen::VectorXd& dq) const override;
   Eigen::VectorXd residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                            const Eigen::VectorXd& a, double t) const override;
@@ -132,6 +145,9 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   // (then the shape integrals are constant and ffi_ is not evaluated per step).
   body::RigidInertia frame_rigid_;
   bool flexible_ = false;
+  bool green_ = false;  // Green strain (full or reduced)
+  fem::RitzBasis basis_;
+  std::optional<fem::ModalInternalForce> modal_;  // reduced fidelities
   std::vector<int> free_;
   Eigen::SparseMatrix<double> K_free_;  // K_L on the free dofs
   Eigen::SparseMatrix<double> M_free_;  // L_c on the free dofs
