@@ -121,6 +121,7 @@ def test_cli_run_writes_summary_series_and_figures(tmp_path, capsys):
         assert (tmp_path / f"{name}.png").stat().st_size > 5_000
     header = (tmp_path / "timeseries.csv").read_text().splitlines()[0]
     assert "deployment_angle (deg)" in header and "lock_force (N)" in header
+    assert "body_attitude_y (deg)" in header  # vector series: one column per component
 
 
 def test_result_round_trip(tmp_path, nonlinear_run):

@@ -3,7 +3,7 @@
 - ``deployfx run paper2016 --layup 2 --model nonlinear --t-end 30 --dt 0.01 --out DIR``: the
   deployment and locking of You et al. (2016); writes ``summary.json``, ``timeseries.csv`` (one
   per model) and the paper's figures; ``--model both`` overlays linear and nonlinear; ``--json``
-  prints the summary.
+  prints the summary; ``--model reduced-nonlinear --modes 10`` runs a reduced appendage.
 - ``deployfx run spin-up-beam --omega-s 4``: the spin-up beam of Kane, Ryan & Banerjee (1987).
 - ``deployfx appendage``: modes of the paper's laminated appendage.
 """
@@ -83,10 +83,10 @@ def _write_csv(result, path: Path) -> None:
         unit = result.units.get(name, "")
         if a.ndim == 1:
             df_cols.append((f"{name} ({unit})", a))
-        elif a.ndim > 2:
-            continue  # fields over the mesh (node displacements) are saved with Result.save
+        elif a.ndim == 2 and a.shape[1] <= 3:  # vectors (attitude, momenta): one column each
             for j, axis in enumerate("xyz"[: a.shape[1]]):
                 df_cols.append((f"{name}_{axis} ({unit})", a[:, j]))
+        # fields over the mesh (node displacements) and raw coordinates are saved by Result.save
     with open(path, "w", newline="") as fh:
         writer = csv.writer(fh)
         writer.writerow([c for c, _ in df_cols])
@@ -101,7 +101,7 @@ def _run(args: argparse.Namespace) -> int:
     if args.scene == "paper2016":
         models = ("linear", "nonlinear") if args.model == "both" else (args.model,)
         for model in models:
-            scene = scenes.paper2016(args.layup, model, nx=args.nx, ny=args.ny)
+            scene = scenes.paper2016(args.layup, model, nx=args.nx, ny=args.ny, modes=args.modes)
             if not args.json:
                 print(f"paper2016 lay-up {args.layup}, {model} model, {args.nx} x {args.ny} mesh: "
                       f"{args.t_end:g} s at dt = {args.dt:g} s ...", flush=True)
@@ -110,7 +110,7 @@ def _run(args: argparse.Namespace) -> int:
             except SimulationError as e:
                 print(f"deployfx: {model} run stopped: {e}", file=sys.stderr)
                 results.append(e.result)
-            labels.append(model)
+            labels.append(model if not model.startswith("reduced") else f"{model}-{args.modes}")
     else:
         scene = scenes.spin_up_beam(args.omega_s, args.t_s, args.model if args.model != "both" else "nonlinear")
         try:
@@ -162,8 +162,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     r = sub.add_parser("run", help="simulate a ready scene: paper2016 or spin-up-beam")
     r.add_argument("scene", choices=("paper2016", "spin-up-beam"))
-    r.add_argument("--model", choices=("rigid", "linear", "nonlinear", "both"), default="nonlinear",
+    r.add_argument("--model", choices=("rigid", "linear", "nonlinear", "reduced-linear", "reduced-nonlinear", "both"),
+                   default="nonlinear",
                    help="appendage fidelity; both = linear and nonlinear overlaid (default nonlinear)")
+    r.add_argument("--modes", type=int, default=10,
+                   help="paper2016, reduced models: clamped vibration modes in the basis (default 10)")
     r.add_argument("--layup", type=int, choices=(1, 2), default=2, help="paper2016: 1 [0/0/0/0], 2 [0/90/90/0]")
     r.add_argument("--nx", type=int, default=paper2016.NX, help="paper2016: elements along the length")
     r.add_argument("--ny", type=int, default=paper2016.NY, help="paper2016: elements across the width")

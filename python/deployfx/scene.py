@@ -25,13 +25,13 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 
 from . import _core
-from ._checks import as_float
+from ._checks import as_float, as_int
 from .contact import ContactLaw, Friction
 from .integrators import HHT, GeneralizedAlpha, Newmark, SimulationError, _check_scheme
 from .plate import ShellModel
 from .results import Result
 
-FIDELITIES = ("rigid", "linear", "nonlinear")
+FIDELITIES = ("rigid", "linear", "nonlinear", "reduced-linear", "reduced-nonlinear")
 
 
 def _vector(name: str, value, n: int = 3) -> np.ndarray:
@@ -92,6 +92,17 @@ class Model:
     has_lock: bool
     fixed_dofs: tuple = field(repr=False)
     description: dict = field(default_factory=dict)
+    #: The hinge's geometry: ``point`` (m, B), unit ``axis`` (B) and ``R_BE0`` (E's axes at theta = 0),
+    #: to place the appendage in world coordinates (deployfx.animation).
+    hinge: Optional[dict] = field(default=None, repr=False)
+    #: No driver: nothing in the scene can add energy (springs, contact and damping only store or
+    #: dissipate it), so energy growth is a numerical failure and ``simulate`` reports it.
+    conservative: bool = True
+
+    @property
+    def reduced(self) -> bool:
+        """True for the reduced fidelities (elastic coordinates are Ritz coordinates eta)."""
+        return self.fidelity.startswith("reduced")
 
     @property
     def free_dofs(self) -> np.ndarray:
@@ -101,15 +112,31 @@ class Model:
         n = self.shell.num_dofs
         return np.setdiff1d(np.arange(n), np.asarray(self.fixed_dofs, dtype=int))
 
+    @property
+    def basis(self) -> Optional[np.ndarray]:
+        """Reduced fidelities: the Ritz basis, mesh dofs = ``basis @ eta`` (read-only, (6 nodes x
+        r), M-orthonormal: eta in kg^0.5 m); None for a full model."""
+        return self.system.basis if self.reduced else None
+
+    @property
+    def basis_info(self) -> Optional[dict]:
+        """Reduced fidelities: ``modes``, ``static_corrections`` and ``modal_derivatives`` proposed,
+        the basis ``size`` kept and its Ritz values ``omega2`` ((rad/s)^2); None otherwise."""
+        return self.system.basis_info if self.reduced else None
+
     def node_displacements(self, q: np.ndarray) -> np.ndarray:
         """Node translations in the appendage frame E (m), shape (len(q), nodes, 3), from recorded
         coordinates ``q`` (the raw ``q`` series); zeros for a rigid appendage."""
         q = np.atleast_2d(q)
         n_nodes = self.shell.num_dofs // 6 if self.shell is not None else 0
-        full = np.zeros((len(q), 6 * n_nodes))
-        free = self.free_dofs
-        if free.size:
-            full[:, free] = q[:, self.system.num_positions - free.size:]
+        elastic = q[:, self.system.num_positions - self.system.num_elastic:]
+        if self.reduced:
+            full = elastic @ self.system.basis.T
+        else:
+            full = np.zeros((len(q), 6 * n_nodes))
+            free = self.free_dofs
+            if free.size:
+                full[:, free] = elastic
         return full.reshape(len(q), n_nodes, 6)[:, :, :3]
 
     def simulate(self, t_end: float, dt: float, scheme=GeneralizedAlpha(0.8),
@@ -133,7 +160,9 @@ class Model:
         the world origin; the appendage's are the totals minus the base's) to the result's
         series; by default all of them are kept, with ``q`` and ``node_displacements``.
         Raises :class:`~deployfx.integrators.SimulationError` with ``.result`` (the series up to
-        the failure) if a step cannot be completed.
+        the failure) if a step cannot be completed, or if an undriven run's total energy grew by
+        more than ``ENERGY_GROWTH_LIMIT`` of its peak kinetic energy (numerical divergence: the
+        message gives the time).
         """
         t_end, dt = as_float("t_end", t_end), as_float("dt", dt)
         if not (np.isfinite(dt) and dt > 0):
@@ -162,6 +191,12 @@ class Model:
                     events=int(raw["events"]), tolerance=tolerance,
                     newton_iterations=int(np.sum(raw["newton_iterations"])),
                     factorizations=int(raw["factorizations"]), wall_time_s=wall)
+        if self.reduced:
+            info = self.basis_info
+            meta.update(modes=info["modes"], static_corrections=info["static_corrections"],
+                        modal_derivatives=info["modal_derivatives"], basis_size=info["size"])
+        if self.conservative:  # report the growth first: it explains a later Newton failure
+            raw["failure"] = "; then ".join(m for m in (_energy_growth(raw), raw["failure"]) if m)
         if raw["failure"]:
             meta["failure"] = raw["failure"]
         result = Result(out, units=units or _RAW_UNITS, metadata=meta)
@@ -178,6 +213,29 @@ _RAW_UNITS = {"q": "m, rad (base position, quaternion, hinge angle, elastic dofs
               "node_displacements": "m", "t": "s", "theta": "rad", "theta_rate": "rad/s", "spring_torque": "N m", "lock_force": "N",
               "lock_torque": "N m", "kinetic_energy": "J", "potential_energy": "J", "linear_momentum": "N s",
               "angular_momentum": "N m s", "base_angular_momentum": "N m s", "base_linear_momentum": "N s"}
+
+
+#: Energy growth (J, relative to the peak kinetic energy) beyond which an undriven run is
+#: declared diverged: the trapezoidal rule's O(dt^2) energy error is orders below it.
+ENERGY_GROWTH_LIMIT = 0.1
+
+
+def _energy_growth(raw: dict) -> str:
+    """A message if the total energy of an undriven run grew by more than ENERGY_GROWTH_LIMIT of
+    the peak kinetic energy (a step too large for a stiff contact or a light base), else ''."""
+    E = raw["kinetic_energy"] + raw["potential_energy"]
+    if len(E) < 2:
+        return ""
+    scale = max(raw["kinetic_energy"].max(), np.finfo(float).tiny)
+    excess = (E - E[0]) / scale
+    over = np.flatnonzero(~(excess <= ENERGY_GROWTH_LIMIT))  # NaN counts as growth
+    if over.size == 0:
+        return ""
+    k = over[0]
+    return (f"diverged: the total energy grew by {excess[k]:.3g} x the peak kinetic energy at "
+            f"t = {raw['t'][k]:.6g} s although nothing in the scene adds energy (a step too large "
+            f"for a stiff contact or a light base); use a smaller dt or error-controlled steps "
+            f"(tolerance=)")
 
 
 class _Bar:
@@ -263,10 +321,16 @@ class Scene:
         return self
 
     def set_appendage(self, shell: ShellModel, fixed_dofs: Sequence[int], fidelity: str = "nonlinear",
-                      damping: tuple[float, float] = (0.0, 0.0)) -> "Scene":
+                      damping: tuple[float, float] = (0.0, 0.0), modes: int = 10,
+                      derivative_modes: Optional[int] = None) -> "Scene":
         """The appendage: a shell mesh with node coordinates in E (m), the dofs clamped to E (its
         root edge) and the fidelity: "rigid" (one rigid body: the mesh's mass distribution),
-        "linear" (linear strain) or "nonlinear" (Green strain, You et al. 2016 Eq. 14).
+        "linear" (linear strain) or "nonlinear" (Green strain, You et al. 2016 Eq. 14), or these
+        two reduced, "reduced-linear" and "reduced-nonlinear": the elastic motion in a Ritz basis
+        of ``modes`` clamped vibration modes plus the static corrections for the root's
+        acceleration loads and, for Green strain, the modal derivatives of every pair among the
+        first ``derivative_modes`` modes (None: min(modes, 6)), with the exact polynomial internal
+        force in that basis (docs/engine-design.md).
         ``damping = (alpha_M, beta_K)``: structural Rayleigh damping C = alpha_M M + beta_K K
         (1/s, s), a modal damping ratio (alpha_M / omega + beta_K omega) / 2."""
         if not isinstance(shell, ShellModel):
@@ -279,8 +343,18 @@ class Scene:
         if len(damping) != 2:
             raise ValueError(f"damping must be (alpha_M, beta_K), got {damping!r}")
         alpha_M, beta_K = (as_float(f"appendage.{k}", v) for k, v in zip(("alpha_M", "beta_K"), damping))
+        modes = as_int("appendage.modes", modes)
+        n_free = shell.num_dofs - len(fixed)
+        if fidelity.startswith("reduced") and not 1 <= modes <= n_free:
+            raise ValueError(f"appendage.modes = {modes} is out of range: must be in [1, {n_free}] "
+                             "(the free dofs)")
+        if derivative_modes is not None:
+            derivative_modes = as_int("appendage.derivative_modes", derivative_modes)
+            if not 0 <= derivative_modes <= modes:
+                raise ValueError(f"appendage.derivative_modes = {derivative_modes} is out of range: must be "
+                                 f"in [0, modes = {modes}] or None")
         self._appendage = dict(shell=shell, fixed=tuple(fixed), fidelity=fidelity, alpha_M=alpha_M,
-                               beta_K=beta_K)
+                               beta_K=beta_K, modes=modes, derivative_modes=derivative_modes)
         return self
 
     def set_lock(self, theta_lock: float, pin_radius: float, clearance: float, law: ContactLaw,
@@ -319,6 +393,9 @@ class Scene:
                                     h["spin_up"], a["shell"]._impl, list(a["fixed"]), a["fidelity"],
                                     base_com=base.com, fitting_mass=f.mass, fitting_com=f.com,
                                     fitting_inertia=f.inertia, lock=lock, alpha_M=a["alpha_M"],
-                                    beta_K=a["beta_K"])
+                                    beta_K=a["beta_K"], modes=a["modes"],
+                                    derivative_modes=-1 if a["derivative_modes"] is None else a["derivative_modes"])
         return Model(system=system, shell=a["shell"], fidelity=a["fidelity"], base_free=free,
-                     has_lock=lock is not None, fixed_dofs=a["fixed"], description=dict(description or {}))
+                     has_lock=lock is not None, fixed_dofs=a["fixed"], description=dict(description or {}),
+                     hinge={k: h[k].copy() for k in ("point", "axis", "R_BE0")},
+                     conservative=h["spin_up"] is None)

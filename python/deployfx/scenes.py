@@ -69,6 +69,9 @@ class Paper2016Parameters:
     #: Structural damping of the appendage, Rayleigh (alpha_M 1/s, beta_K s); the paper gives
     #: none. beta_K = 4e-3 s would be 1 % of critical at the first mode (0.8 Hz).
     damping: tuple = (0.0, 0.0)
+    #: Reduced models: clamped vibration modes in the Ritz basis (Scene.set_appendage).
+    modes: int = 10
+    derivative_modes: Optional[int] = None      #: None: min(modes, 6) (Scene.set_appendage)
 
 
 class Paper2016Scene:
@@ -89,9 +92,11 @@ class Paper2016Scene:
                  .set_hinge(point=(p.hinge_x, 0.0, 0.0), axis=(0.0, 1.0, 0.0), R_BE0=_Ry(-np.pi / 2),
                             tau0=p.tau0, k_theta=p.k_theta, c_theta=p.c_theta,
                             fitting_inertia=p.fitting_inertia)
-                 .set_appendage(shell, plate.fixed_dofs("CFFF"), p.model, damping=p.damping))
+                 .set_appendage(shell, plate.fixed_dofs("CFFF"), p.model, damping=p.damping, modes=p.modes,
+                                derivative_modes=p.derivative_modes))
         if p.lock:
             scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, p.friction)
+        self.scene = scene  #: the :class:`Scene` before compile (e.g. for deployfx.save_scene)
         self.model = scene.compile(description={"scene": "paper2016", "layup": p.layup,
                                                 "mesh": f"{p.nx}x{p.ny}"})
         # Node E: the free-end corner (x = L, y = W); also the free end's mid-width node.
@@ -120,9 +125,11 @@ class Paper2016Scene:
             "kinetic_energy": raw["kinetic_energy"],
             "potential_energy": raw["potential_energy"],
             "node_displacements": model.node_displacements(q),
+            "q": q,
         }
 
-    UNITS = {"t": "s", "deployment_angle": "deg", "deployment_rate": "deg/s", "spring_torque": "N m",
+    UNITS = {"q": "m, rad (base position, quaternion, hinge angle, elastic coordinates)",
+             "t": "s", "deployment_angle": "deg", "deployment_rate": "deg/s", "spring_torque": "N m",
              "lock_force": "N", "node_E_deflection": "m", "node_mid_deflection": "m", "body_attitude": "deg",
              "body_angular_momentum": "N m s", "total_angular_momentum": "N m s",
              "total_linear_momentum": "N s", "body_linear_momentum": "N s", "kinetic_energy": "J", "potential_energy": "J",
@@ -142,8 +149,8 @@ class Paper2016Scene:
 
 
 def paper2016(layup: int = 2, model: str = "nonlinear", **overrides) -> Paper2016Scene:
-    """You et al. (2016): lay-up 1 ([0/0/0/0]) or 2 ([0/90/90/0]); model "rigid", "linear" or
-    "nonlinear"; any field of :class:`Paper2016Parameters` may be overridden by keyword."""
+    """You et al. (2016): lay-up 1 ([0/0/0/0]) or 2 ([0/90/90/0]); model "rigid", "linear",
+    "nonlinear", "reduced-linear" or "reduced-nonlinear" (with ``modes=k``); any field of :class:`Paper2016Parameters` may be overridden by keyword."""
     names = {f.name for f in dataclasses.fields(Paper2016Parameters)}
     unknown = sorted(set(overrides) - names)
     if unknown:
