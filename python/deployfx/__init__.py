@@ -5,6 +5,7 @@
 - Scenes: :class:`Scene` builds a base, hinge, fitting, appendage and lock into a :class:`Model`;
   :mod:`deployfx.scenes` holds the paper's scene (``scenes.paper2016``) and the spin-up beam.
 - Results: :class:`Result` (series, units, ``summary()``, ``save``/:func:`load`), :mod:`plot`.
+- Scene files: :func:`save_scene` / :func:`load_scene` (JSON or TOML, :mod:`deployfx.scene_file`).
 SI units throughout.
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
@@ -12,7 +13,9 @@ from .plate import Plate, ShellModel
 from . import contact, export, integrators, metrics, paper2016, plot, scenes
 from .results import Result, load
 from .scene import Model, Scene
+from .scene_file import load_scene, save_scene
 
 __all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model",
-           "Result", "load", "contact", "export", "integrators", "metrics", "paper2016", "plot", "scenes"]
+           "Result", "load", "save_scene", "load_scene", "contact", "export", "integrators", "metrics",
+           "paper2016", "plot", "scenes"]
 __version__ = "0.1.0"

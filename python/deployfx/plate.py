@@ -49,13 +49,14 @@ class ShellModel:
         if quads.ndim != 2 or quads.shape[1] != 4 or not np.issubdtype(quads.dtype, np.integer):
             raise ValueError(f"quads must be integers of shape (e, 4), got {quads.dtype} {quads.shape}")
         self.laminate = _laminate(laminate)
-        self._impl = _core.ShellModel(nodes, quads.astype(np.int32), laminate._impl,
-                                      np.asarray(ref_axis, dtype=float))
+        self.ref_axis = np.array(ref_axis, dtype=float)  #: the 0-degree direction given (world axes)
+        self._impl = _core.ShellModel(nodes, quads.astype(np.int32), laminate._impl, self.ref_axis)
 
     @classmethod
     def _wrap(cls, impl: _core.ShellModel, laminate: Laminate) -> "ShellModel":
         self = cls.__new__(cls)
         self.laminate, self._impl = laminate, impl
+        self.ref_axis = np.array([1.0, 0.0, 0.0])  # a Plate's mesh: 0-degree plies along x
         return self
 
     @property

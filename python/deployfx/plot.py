@@ -22,6 +22,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
+from .animation import animate
 from .results import PathLike, Result
 
 Results = Union[Result, Sequence[Result]]
