@@ -14,8 +14,9 @@ from . import contact, export, integrators, metrics, paper2016, plot, scenes
 from .results import Result, load
 from .scene import Model, Scene
 from .scene_file import load_scene, save_scene
+from .tradeoff import tradeoff
 
 __all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model",
            "Result", "load", "save_scene", "load_scene", "contact", "export", "integrators", "metrics",
-           "paper2016", "plot", "scenes"]
+           "paper2016", "plot", "scenes", "tradeoff"]
 __version__ = "0.1.0"
