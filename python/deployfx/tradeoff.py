@@ -28,7 +28,7 @@ import csv
 import math
 import statistics
 import time
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping, Optional, Sequence, Union
 
@@ -49,7 +49,8 @@ ERRORS = {"lock_time_error_s": "|first lock time error| (s)",
 #: Columns of a row, in order. Units in the names: s, N, m; ``*_rel_error`` are fractions.
 COLUMNS = ("label", "model", "modes", "basis_size", "mesh", "coordinates", "dt_s", "tolerance",
            "integrator", "setup_s", "wall_time_s", "steps", "substeps", "newton_iterations",
-           "ms_per_step", "t_reached_s", "lock_time_s", "peak_lock_force_N", "max_node_E_deflection_m",
+           "ms_per_step", "t_reached_s", "lock_time_s", "peak_lock_force_N",
+           "max_node_E_deflection_m",
            "lock_time_error_s", "peak_lock_force_rel_error", "node_E_rms_rel_error",
            "ref_lock_time_s", "ref_peak_lock_force_N", "ref_max_node_E_deflection_m",
            "is_reference", "failure")
@@ -95,11 +96,12 @@ class Case:
     scheme: Scheme = GeneralizedAlpha(0.8)
     modes: Optional[int] = None
     tolerance: Optional[float] = None
-    label: Optional[str] = field(default=None, compare=True)
+    label: Optional[str] = None
 
     def __post_init__(self):
         if self.model not in FIDELITIES:
-            raise ValueError(f"model = {self.model!r} is invalid: must be one of {', '.join(FIDELITIES)}")
+            raise ValueError(f"model = {self.model!r} is invalid: must be one of "
+                             f"{', '.join(FIDELITIES)}")
         for name in ("nx", "ny"):
             if as_int(name, getattr(self, name)) < 1:
                 raise ValueError(f"{name} = {getattr(self, name)} is out of range: must be >= 1")
@@ -109,13 +111,15 @@ class Case:
         _check_scheme(self.scheme)
         if self.modes is not None:
             if not self.model.startswith("reduced"):
-                raise ValueError(f"modes = {self.modes} is only for the reduced models, not {self.model!r}")
+                raise ValueError(f"modes = {self.modes} is only for the reduced models, "
+                                 f"not {self.model!r}")
             if as_int("modes", self.modes) < 1:
                 raise ValueError(f"modes = {self.modes} is out of range: must be >= 1")
         if self.tolerance is not None:
             tol = as_float("tolerance", self.tolerance)
             if not (math.isfinite(tol) and tol > 0):
-                raise ValueError(f"tolerance = {tol} is out of range: must be > 0 (m or rad) or None")
+                raise ValueError(f"tolerance = {tol} is out of range: must be > 0 (m or rad) "
+                                 "or None")
         if self.label is not None and not isinstance(self.label, str):
             raise TypeError(f"label must be a string or None, got {type(self.label).__name__}")
 
@@ -174,8 +178,8 @@ def tradeoff(cases: Iterable[CaseLike], reference: Union[CaseLike, Result], t_en
     layup
         The paper's lay-up, 1 or 2.
     repeat
-        Timed runs per case (>= 1); ``wall_time_s`` is their median (the runs are deterministic,
-        the first one's series are used).
+        Timed runs per case (>= 1; the reference runs once); ``wall_time_s`` is their median
+        (the runs are deterministic, the first one's series are used).
     scene_overrides
         Further :class:`~deployfx.scenes.Paper2016Parameters` fields for every run (e.g.
         ``{"clearance": 1e-4}``), applied to the reference case too.
@@ -191,13 +195,16 @@ def tradeoff(cases: Iterable[CaseLike], reference: Union[CaseLike, Result], t_en
     t_end = as_float("t_end", t_end)
     if not (math.isfinite(t_end) and t_end > 0):
         raise ValueError(f"t_end = {t_end} is out of range: must be > 0 (s)")
+    if layup not in _paper.LAYUPS:
+        raise ValueError(f"layup = {layup!r} is out of range: must be 1 or 2")
     repeat = as_int("repeat", repeat)
     if repeat < 1:
         raise ValueError(f"repeat = {repeat} is out of range: must be >= 1")
     overrides = dict(scene_overrides or {})
     for key in ("model", "nx", "ny", "modes", "layup"):
         if key in overrides:
-            raise ValueError(f"scene_overrides must not set {key!r}: it is a Case field or an argument")
+            raise ValueError(f"scene_overrides must not set {key!r}: it is a Case field or an "
+                             "argument")
     cases = [_as_case(c, f"cases[{k}]") for k, c in enumerate(cases)]
 
     if isinstance(reference, Result):
@@ -210,11 +217,15 @@ def tradeoff(cases: Iterable[CaseLike], reference: Union[CaseLike, Result], t_en
             raise ValueError(f"the reference result stopped early: {ref_result.failure}")
     else:
         ref_case = _as_case(reference, "reference")
-        ref_result, ref_setup, failure, ref_wall = _run(ref_case, t_end, layup, repeat, overrides)
+        ref_result, ref_setup, failure, ref_wall = _run(ref_case, t_end, layup, 1, overrides)
+        if ref_result is None:
+            raise ValueError(f"the reference {ref_case.name} cannot be built: {failure}")
         if failure:
-            raise SimulationError(f"the reference run {ref_case.name} failed: {failure}", ref_result)
+            raise SimulationError(f"the reference run {ref_case.name} failed: {failure}",
+                                  ref_result)
     if ref_result.t[-1] < t_end * (1 - 1e-9):
-        raise ValueError(f"the reference ends at t = {ref_result.t[-1]:g} s, before t_end = {t_end:g} s")
+        raise ValueError(f"the reference ends at t = {ref_result.t[-1]:g} s, before "
+                         f"t_end = {t_end:g} s")
     ref = _Reference(ref_result, t_end)
 
     rows = []
@@ -246,7 +257,8 @@ def _run(case: Case, t_end: float, layup: int, repeat: int,
     result, walls, failure = None, [], ""
     for _ in range(repeat):
         try:
-            r = scene.simulate(t_end, case.dt, case.scheme, tolerance=case.tolerance, progress=False)
+            r = scene.simulate(t_end, case.dt, case.scheme, tolerance=case.tolerance,
+                               progress=False)
         except SimulationError as e:
             r, failure = e.result, str(e)
         walls.append(r.metadata["wall_time_s"])
@@ -293,9 +305,9 @@ def _row(case: Optional[Case], result: Optional[Result], setup: float, wall: flo
         if case.model.startswith("reduced") and case.modes is None:
             row["modes"] = meta.get("modes")
     else:  # a given reference Result
-        row.update(label="reference (given result)", model=meta.get("model"), modes=meta.get("modes"),
-                   mesh=meta.get("mesh"), dt_s=meta.get("dt"), tolerance=meta.get("tolerance"),
-                   integrator=meta.get("integrator"))
+        row.update(label="reference (given result)", model=meta.get("model"),
+                   modes=meta.get("modes"), mesh=meta.get("mesh"), dt_s=meta.get("dt"),
+                   tolerance=meta.get("tolerance"), integrator=meta.get("integrator"))
     row.update(basis_size=meta.get("basis_size"), setup_s=setup, wall_time_s=wall,
                steps=meta.get("steps"), substeps=meta.get("substeps"),
                newton_iterations=meta.get("newton_iterations"),
@@ -325,13 +337,14 @@ def _row(case: Optional[Case], result: Optional[Result], setup: float, wall: flo
         return row
     row["peak_lock_force_N"] = float(force.max())
     row["max_node_E_deflection_m"] = float(np.abs(deflection).max())
-    row["peak_lock_force_rel_error"] = abs(row["peak_lock_force_N"] - ref.peak_force) / ref.peak_force
+    row["peak_lock_force_rel_error"] = (abs(row["peak_lock_force_N"] - ref.peak_force)
+                                        / ref.peak_force)
     row["node_E_rms_rel_error"] = history_error(t, deflection, ref.t, ref.deflection)
     return row
 
 
 def _coordinates(case: Optional[Case], meta: dict) -> Optional[int]:
-    # Elastic coordinates of the appendage: the basis size (reduced), the free dofs (full), 0 (rigid).
+    # Elastic coordinates: the basis size (reduced), the free dofs (full), 0 (rigid).
     if meta.get("basis_size") is not None:
         return int(meta["basis_size"])
     model = meta.get("model")
@@ -440,7 +453,8 @@ def to_text(rows: Sequence[Mapping[str, Any]], columns: Mapping[str, str] = SHOR
     """The rows as an aligned plain-text table of ``columns`` (as :func:`to_markdown`)."""
     table = [list(columns) + ["failure"]]
     for r in rows:
-        table.append([_fmt(r.get(c), f) for c, f in columns.items()] + [(r.get("failure") or "")[:60]])
+        table.append([_fmt(r.get(c), f) for c, f in columns.items()]
+                     + [(r.get("failure") or "")[:60]])
     widths = [max(len(row[k]) for row in table) for k in range(len(table[0]))]
     return "\n".join("  ".join(c.ljust(w) if k == 0 else c.rjust(w) for k, (c, w) in
                                enumerate(zip(row, widths))).rstrip() for row in table)
