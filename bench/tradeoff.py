@@ -70,8 +70,8 @@ from pathlib import Path
 
 import deployfx as dfx
 from deployfx.integrators import HHT, GeneralizedAlpha, Newmark
-from deployfx.tradeoff import (SHORT, Case, plot_work_precision, scheme_label, to_markdown,
-                               to_text, write_csv)
+from deployfx.tradeoff import Case, scheme_label
+from deployfx.tradeoff_report import SHORT, plot_work_precision, to_markdown, to_text, write_csv
 
 SWEEPS = ("fidelity", "mesh", "dt", "integrator", "adaptive")
 MESHES = ("4x3", "6x4", "10x7", "15x10", "20x13", "30x20")

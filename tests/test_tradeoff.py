@@ -10,8 +10,8 @@ import pytest
 
 import deployfx as dfx
 from deployfx.integrators import HHT
-from deployfx.tradeoff import (COLUMNS, ERRORS, Case, history_error, plot_work_precision,
-                               to_dataframe, to_markdown, write_csv)
+from deployfx.tradeoff import COLUMNS, ERRORS, Case, history_error
+from deployfx.tradeoff_report import plot_work_precision, to_dataframe, to_markdown, write_csv
 
 T_END = 2.6
 REF = Case("nonlinear", nx=2, ny=1, dt=0.005)
