@@ -30,8 +30,9 @@ EXPECTED = {
         4, ["first_lock_time_s", "peak_lock_force_N", "linear: first lock at",
             "nonlinear: first lock at", "15 x 10"], []),
     "02_build_your_own_scene.ipynb": (
-        2, ["ValueError: hinge.axis", "rigid: first lock", "nonlinear: first lock",
-            "identical: True"], ["text/html"]),
+        3, ["ValueError: hinge.axis", "rigid: first lock", "nonlinear: first lock",
+            "identical: True", "rigid panels only", "array: panel 2 (hinge 2) first locks at"],
+        ["text/html"]),
 }
 
 

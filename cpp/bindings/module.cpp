@@ -10,6 +10,7 @@ void define_body(py::module_& m);
 void define_integrate(py::module_& m);
 void define_system(py::module_& m);
 void define_contact(py::module_& m);
+void define_chain(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "deployfx compiled core (private; use the deployfx package)";
@@ -19,4 +20,5 @@ PYBIND11_MODULE(_core, m) {
   define_integrate(m);
   define_system(m);
   define_contact(m);
+  define_chain(m);
 }

@@ -2,7 +2,8 @@
 
 - Structures: laminated materials (:class:`Isotropic`, :class:`Orthotropic`, :class:`Ply`,
   :class:`Laminate`) and the MITC4 laminated shell on a :class:`Plate` or any :class:`ShellModel`.
-- Scenes: :class:`Scene` builds a base, hinge, fitting, appendage and lock into a :class:`Model`;
+- Scenes: :class:`Scene` builds a base, hinge, fitting, appendage and lock into a :class:`Model`,
+  or a chain of rigid bodies on several hinges (a yoke and panels) into a :class:`ChainModel`;
   :mod:`deployfx.scenes` holds the paper's scene (``scenes.paper2016``) and the spin-up beam.
 - Results: :class:`Result` (series, units, ``summary()``, ``save``/:func:`load`), :mod:`plot`.
 - Scene files: :func:`save_scene` / :func:`load_scene` (JSON or TOML, :mod:`deployfx.scene_file`).
@@ -10,13 +11,14 @@ SI units throughout.
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import Plate, ShellModel
-from . import contact, export, integrators, metrics, paper2016, plot, scenes
+from . import chain, contact, export, integrators, metrics, paper2016, plot, scenes
+from .chain import ChainModel
 from .results import Result, load
 from .scene import Model, Scene
 from .scene_file import load_scene, save_scene
 from .tradeoff import tradeoff
 
 __all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model",
-           "Result", "load", "save_scene", "load_scene", "contact", "export", "integrators", "metrics",
-           "paper2016", "plot", "scenes", "tradeoff"]
+           "ChainModel", "Result", "load", "save_scene", "load_scene", "chain", "contact", "export",
+           "integrators", "metrics", "paper2016", "plot", "scenes", "tradeoff"]
 __version__ = "0.1.0"

@@ -16,6 +16,10 @@ name                          unit      shape      meaning
 ``total_angular_momentum``    N m s     (n, 3)     angular momentum of the whole system
 ============================  ========  =========  ==============================================
 
+A chain of hinges (:class:`deployfx.chain.ChainModel`) records the per-hinge series as (n, N)
+arrays, one column per hinge: ``deployment_angle`` (deg, each hinge's travel from stowed),
+``spring_torque``, ``lock_force``, ... (see :meth:`deployfx.chain.ChainModel.simulate`).
+
 Metadata is a JSON-compatible dict. Keys the engine writes: ``scene`` (parameters), ``model``
 (``"rigid"``, ``"linear"``, ``"nonlinear"``), ``dt`` (s), ``integrator``, ``wall_time_s`` (s),
 ``steps`` (integration steps taken) and, when a run stopped early, ``failure`` (the message).
@@ -212,18 +216,21 @@ class Result:
         - ``momentum_drift``: max |H - H(0)| / max |H_b - H_b(0)| from ``total_angular_momentum``
           and ``body_angular_momentum``.
         - ``steps``, ``wall_time_s`` (s): from the metadata.
+
+        A chain of hinges records ``lock_force`` and ``deployment_angle`` as (n, N) series, one
+        column per hinge: the four lock metrics are then lists with one value per hinge.
         """
         s = self._series
         t = s["t"]
         force, angle = s.get("lock_force"), s.get("deployment_angle")
         out: dict[str, Any] = dict.fromkeys(SUMMARY_KEYS)
         if force is not None or angle is not None:
-            out["first_lock_time_s"] = metrics.first_lock_time(t, force, angle)
+            out["first_lock_time_s"] = _per_hinge(metrics.first_lock_time, t, force, angle)
         if force is not None:
-            out["impacts"] = metrics.impact_count(t, force)
-            out["peak_lock_force_N"] = metrics.peak_lock_force(force)
+            out["impacts"] = _per_hinge(metrics.impact_count, t, force)
+            out["peak_lock_force_N"] = _per_hinge(metrics.peak_lock_force, None, force)
         if angle is not None:
-            out["settling_time_s"] = metrics.lock_settling_time(t, angle, force)
+            out["settling_time_s"] = _per_hinge(metrics.lock_settling_time, t, angle, force)
         if "node_E_deflection" in s:
             out["max_node_E_deflection_m"] = metrics.max_abs(s["node_E_deflection"],
                                                              "node_E_deflection")
@@ -255,6 +262,17 @@ def load(path: PathLike) -> Result:
             raise ValueError(f"{path} is missing the series {missing}")
         series = {name: archive[_PREFIX + name] for name in header["series"]}
     return Result(series, header["units"], header["metadata"])
+
+
+def _per_hinge(metric, t, *series):
+    """``metric(t, *series)``, or for (n, N) series (a chain of hinges) the list of the metric of
+    each column; ``t`` None: the metric takes the series only. None series stay None."""
+    hinges = next((a.shape[1] for a in series if a is not None and a.ndim == 2), None)
+    args = () if t is None else (t,)
+    if hinges is None:
+        return metric(*args, *series)
+    return [metric(*args, *(a if a is None or a.ndim == 1 else a[:, k] for a in series))
+            for k in range(hinges)]
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:

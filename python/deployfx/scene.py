@@ -12,12 +12,13 @@ Frames (docs/notation.md): B is the base (origin at its reference point), E the 
 origin on the hinge axis, its axes ``R_BE(theta) = Rot(axis, theta) R_BE0``; theta is the hinge
 travel from the stowed position. SI units throughout.
 
-This version composes one hinge per scene; chains of hinges (yoke and several panels) are the
-next step of issue 5.
+A chain of hinges (issue 5: a yoke and panels, as on solar arrays) is declared hinge by hinge
+with ``Scene.add_hinge(parent, ...)``, hinge k on the body of hinge k - 1, each with its own
+spring, lock, rigid parts and rigid appendage, in its frame E_k (axes ``Rot(axis_k, theta_k)
+R_PE0_k`` in the parent's); it compiles into a :class:`~deployfx.chain.ChainModel`.
 """
 from __future__ import annotations
 
-import sys
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Optional, Sequence
@@ -27,7 +28,8 @@ import numpy as np
 from . import _core
 from ._checks import as_float, as_int
 from .contact import ContactLaw, Friction
-from .integrators import HHT, GeneralizedAlpha, Newmark, SimulationError, _check_scheme
+from ._run import ENERGY_GROWTH_LIMIT, _run_arguments, _run_result  # noqa: F401 (ENERGY_GROWTH_LIMIT: public here)
+from .integrators import GeneralizedAlpha
 from .plate import ShellModel
 from .results import Result
 
@@ -164,18 +166,10 @@ class Model:
         more than ``ENERGY_GROWTH_LIMIT`` of its peak kinetic energy (numerical divergence: the
         message gives the time).
         """
-        t_end, dt = as_float("t_end", t_end), as_float("dt", dt)
-        if not (np.isfinite(dt) and dt > 0):
-            raise ValueError(f"dt = {dt} is out of range: must be > 0 (s)")
-        if not (np.isfinite(t_end) and t_end >= 0):
-            raise ValueError(f"t_end = {t_end} is out of range: must be >= 0 (s)")
-        scheme = _check_scheme(scheme)
+        t_end, dt, tol, scheme = _run_arguments(t_end, dt, scheme, tolerance)
         q0 = self.system.initial_positions()
         v0 = np.zeros(self.system.num_velocities)
         start = time.perf_counter()
-        tol = 0.0 if tolerance is None else as_float("tolerance", tolerance)
-        if not (np.isfinite(tol) and tol >= 0):
-            raise ValueError(f"tolerance = {tol} is out of range: must be > 0 (m or rad) or None")
         raw = _core.simulate_hinged(self.system, q0, v0, t_end, dt, scheme._params(), tolerance=tol)
         wall = time.perf_counter() - start
         if series:
@@ -186,24 +180,13 @@ class Model:
             out["node_displacements"] = self.node_displacements(raw["q"])
         meta = dict(self.description)
         meta.update(metadata or {})
-        meta.update(model=self.fidelity, dt=dt, t_end=t_end, integrator=_scheme_name(scheme),
-                    steps=int(raw["steps"]), substeps=int(raw["substeps"]), rejected=int(raw["rejected"]),
-                    events=int(raw["events"]), tolerance=tolerance,
-                    newton_iterations=int(np.sum(raw["newton_iterations"])),
-                    factorizations=int(raw["factorizations"]), wall_time_s=wall)
+        meta.update(model=self.fidelity)
         if self.reduced:
             info = self.basis_info
             meta.update(modes=info["modes"], static_corrections=info["static_corrections"],
                         modal_derivatives=info["modal_derivatives"], basis_size=info["size"])
-        if self.conservative:  # report the growth first: it explains a later Newton failure
-            raw["failure"] = "; then ".join(m for m in (_energy_growth(raw), raw["failure"]) if m)
-        if raw["failure"]:
-            meta["failure"] = raw["failure"]
-        result = Result(out, units=units or _RAW_UNITS, metadata=meta)
-        if raw["failure"]:
-            raise SimulationError(f"{raw['failure']}; the result up to t = {raw['t'][-1]:.6g} s is in "
-                                  f"the exception's .result", result)
-        return result
+        return _run_result(raw, out, units or _RAW_UNITS, meta, scheme, dt, t_end, tolerance, wall,
+                           self.conservative)
 
 
 _RAW_SERIES = ("t", "theta", "theta_rate", "spring_torque", "lock_force", "lock_torque", "kinetic_energy",
@@ -215,70 +198,52 @@ _RAW_UNITS = {"q": "m, rad (base position, quaternion, hinge angle, elastic dofs
               "angular_momentum": "N m s", "base_angular_momentum": "N m s", "base_linear_momentum": "N s"}
 
 
-#: Energy growth (J, relative to the peak kinetic energy) beyond which an undriven run is
-#: declared diverged: the trapezoidal rule's O(dt^2) energy error is orders below it.
-ENERGY_GROWTH_LIMIT = 0.1
-
-
-def _energy_growth(raw: dict) -> str:
-    """A message if the total energy of an undriven run grew by more than ENERGY_GROWTH_LIMIT of
-    the peak kinetic energy (a step too large for a stiff contact or a light base), else ''."""
-    E = raw["kinetic_energy"] + raw["potential_energy"]
-    if len(E) < 2:
-        return ""
-    scale = max(raw["kinetic_energy"].max(), np.finfo(float).tiny)
-    excess = (E - E[0]) / scale
-    over = np.flatnonzero(~(excess <= ENERGY_GROWTH_LIMIT))  # NaN counts as growth
-    if over.size == 0:
-        return ""
-    k = over[0]
-    return (f"diverged: the total energy grew by {excess[k]:.3g} x the peak kinetic energy at "
-            f"t = {raw['t'][k]:.6g} s although nothing in the scene adds energy (a step too large "
-            f"for a stiff contact or a light base); use a smaller dt or error-controlled steps "
-            f"(tolerance=)")
-
-
-class _Bar:
-    """A tqdm bar over simulated time (s)."""
-
-    def __init__(self, tqdm, t_end: float):
-        self._bar = tqdm(total=round(t_end, 6), unit="s", unit_scale=False, desc="deployfx",
-                         bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s [{elapsed}<{remaining}]")
-
-    def update_to(self, t: float, t_end: float) -> None:
-        self._bar.update(max(0.0, round(t, 6) - self._bar.n))
-
-    def close(self) -> None:
-        self._bar.close()
-
-
-def _progress_bar(t_end: float, progress: Optional[bool]) -> Optional[_Bar]:
-    if progress is None:
-        progress = sys.stderr is not None and sys.stderr.isatty()
-    if not progress:
-        return None
-    from tqdm.auto import tqdm
-
-    return _Bar(tqdm, t_end)
-
-
-def _scheme_name(scheme) -> str:
-    if isinstance(scheme, Newmark):
-        return f"Newmark(beta={scheme.beta}, gamma={scheme.gamma})"
-    if isinstance(scheme, HHT):
-        return f"HHT(alpha={scheme.alpha})"
-    return f"GeneralizedAlpha(rho_inf={scheme.rho_inf})"
-
-
 class Scene:
-    """A mutable builder; every ``set_*``/``add_*`` returns the scene, so calls chain."""
+    """A mutable builder; every ``set_*``/``add_*`` returns the scene, so calls chain.
+
+    One hinge: ``set_base``, ``set_hinge``, ``set_appendage`` and optionally ``set_lock``. A chain of
+    hinges (a yoke and panels, as on solar arrays): declare hinge 0 on the base (``set_hinge`` or
+    ``add_hinge(parent="base", ...)``), then each further hinge on the previous body with
+    ``add_hinge(parent=k - 1, ...)``; ``set_appendage``, ``set_lock`` and ``add_rigid_part(...,
+    body=k)`` attach a panel, a lock or a rigid part (a yoke) to hinge k's body (by default the
+    last hinge declared). Every body of a chain of several hinges is rigid.
+    """
 
     def __init__(self) -> None:
         self._base: Optional[tuple] = None
         self._parts: list[RigidPart] = []
-        self._hinge: Optional[dict] = None
-        self._appendage: Optional[dict] = None
-        self._lock: Optional[dict] = None
+        # One entry per hinge: its hinge, appendage and lock dicts and the rigid parts on its body.
+        self._links: list[dict] = [_new_link()]
+
+    def _assign(self, k: int, key: str, value) -> None:
+        """Hinge k's entry ``key`` = ``value``, copying the entries rather than changing them, so a
+        shallow copy of the scene (copy.copy) keeps its own parts, as attributes did."""
+        links = list(self._links)
+        if k == len(links):
+            links.append(_new_link())
+        links[k] = dict(links[k], **{key: value})
+        self._links = links
+
+    # Hinge 0's parts, under the names a one-hinge scene has always used (deployfx.scene_file).
+    _hinge = property(lambda self: self._links[0]["hinge"], lambda self, value: self._assign(0, "hinge", value))
+    _appendage = property(lambda self: self._links[0]["appendage"],
+                          lambda self, value: self._assign(0, "appendage", value))
+    _lock = property(lambda self: self._links[0]["lock"], lambda self, value: self._assign(0, "lock", value))
+
+    @property
+    def num_hinges(self) -> int:
+        """Hinges declared so far (0 before the first ``set_hinge``/``add_hinge``)."""
+        return len(self._links) if self._links[0]["hinge"] is not None else 0
+
+    def _index(self, hinge: Optional[int], what: str) -> int:
+        """The index of hinge ``hinge`` (None: the last declared, or hinge 0 before any)."""
+        if hinge is None:
+            return len(self._links) - 1
+        k = as_int(f"{what}.hinge", hinge)
+        if not 0 <= k < len(self._links):
+            raise ValueError(f"{what}.hinge = {k} is out of range: must be in [0, {len(self._links) - 1}] "
+                             "(the hinges declared so far)")
+        return k
 
     def set_base(self, mass: float, inertia, com: Sequence[float] = (0.0, 0.0, 0.0), free: bool = True) -> "Scene":
         """The spacecraft body: mass (kg), inertia about its centre of mass (kg m^2, B axes; a
@@ -290,39 +255,69 @@ class Scene:
         self._base = (part, bool(free))
         return self
 
-    def add_rigid_part(self, mass: float, inertia, com: Sequence[float]) -> "Scene":
-        """A rigid part fixed to the base (a yoke): mass (kg), inertia about its centre of mass
-        (kg m^2, B axes), centre of mass in B (m)."""
-        self._parts.append(RigidPart.make("part", mass, com, inertia))
+    def add_rigid_part(self, mass: float, inertia, com: Sequence[float], body="base") -> "Scene":
+        """A rigid part fixed to a body: mass (kg), inertia about its centre of mass (kg m^2, the
+        body's axes), centre of mass (m, the body's frame). ``body``: ``"base"`` (B: a yoke fixed to
+        the spacecraft) or a hinge index k (the body hinge k carries, in its frame: a yoke that
+        deploys, a panel's frame or fittings)."""
+        part = RigidPart.make("part", mass, com, inertia)
+        if isinstance(body, str) and body == "base":
+            self._parts.append(part)
+        else:
+            if isinstance(body, str):
+                raise ValueError(f"part.body = {body!r} is invalid: must be 'base' or a hinge index")
+            k = self._index(body, "part")
+            self._assign(k, "parts", self._links[k]["parts"] + [part])
         return self
 
     def set_hinge(self, point: Sequence[float], axis: Sequence[float], R_BE0=np.eye(3), tau0: float = 0.0,
                   k_theta: float = 0.0, c_theta: float = 0.0, fitting_inertia=0.0, fitting_mass: float = 0.0,
                   fitting_com: Sequence[float] = (0.0, 0.0, 0.0),
                   spin_up: Optional[tuple[float, float]] = None) -> "Scene":
-        """The revolute hinge: a point of its axis (m, B) and the axis (unit, B); ``R_BE0`` the
-        appendage frame's axes at theta = 0; spring torque ``tau0 - k_theta theta`` (N m, N m/rad),
-        viscous damping ``c_theta`` (N m s/rad). The fitting (the rigid part turning with E that the
-        spring, damper and lock act on): inertia (kg m^2 about its centre of mass, E axes), mass
-        (kg), centre of mass (m, E). ``spin_up=(omega_s, t_s)`` prescribes theta(t) instead
-        (Kane, Ryan & Banerjee 1987: rad/s, s)."""
-        axis = _vector("hinge.axis", axis)
-        if abs(np.linalg.norm(axis) - 1) > 1e-9:
-            raise ValueError(f"hinge.axis = {axis.tolist()} must be a unit vector")
-        R = _matrix3("hinge.R_BE0", R_BE0)
-        if np.abs(R.T @ R - np.eye(3)).max() > 1e-9 or np.linalg.det(R) < 0:
-            raise ValueError("hinge.R_BE0 must be a rotation matrix")
-        fitting = RigidPart.make("hinge.fitting", fitting_mass, fitting_com, fitting_inertia)
+        """The revolute hinge on the base (hinge 0): a point of its axis (m, B) and the axis (unit,
+        B); ``R_BE0`` the appendage frame's axes at theta = 0; spring torque ``tau0 - k_theta theta``
+        (N m, N m/rad), viscous damping ``c_theta`` (N m s/rad). The fitting (the rigid part turning
+        with E that the spring, damper and lock act on): inertia (kg m^2 about its centre of mass,
+        E axes), mass (kg), centre of mass (m, E). ``spin_up=(omega_s, t_s)`` prescribes theta(t)
+        instead (Kane, Ryan & Banerjee 1987: rad/s, s; one-hinge scenes only)."""
+        hinge = _hinge_dict("hinge", point, axis, R_BE0, "R_BE0", tau0, k_theta, c_theta, fitting_inertia,
+                            fitting_mass, fitting_com)
         if spin_up is not None:
             spin_up = (as_float("spin_up.omega_s", spin_up[0]), as_float("spin_up.t_s", spin_up[1]))
-        self._hinge = dict(point=_vector("hinge.point", point), axis=axis, R_BE0=R,
-                           tau0=as_float("hinge.tau0", tau0), k_theta=as_float("hinge.k_theta", k_theta),
-                           c_theta=as_float("hinge.c_theta", c_theta), fitting=fitting, spin_up=spin_up)
+        hinge["spin_up"] = spin_up
+        self._assign(0, "hinge", hinge)
+        return self
+
+    def add_hinge(self, parent, point: Sequence[float], axis: Sequence[float], R_PE0=np.eye(3),
+                  tau0: float = 0.0, k_theta: float = 0.0, c_theta: float = 0.0, fitting_inertia=0.0,
+                  fitting_mass: float = 0.0, fitting_com: Sequence[float] = (0.0, 0.0, 0.0)) -> "Scene":
+        """The next hinge of a serial chain, on its ``parent``: ``"base"`` for hinge 0, else the
+        index of the previous hinge (its body: k - 1 for hinge k). A point of the axis (m) and the
+        unit axis in the parent's frame (B, or the previous hinge's frame E); ``R_PE0``: this hinge's
+        frame E at theta = 0, in the parent's axes. Spring ``tau0 - k_theta theta`` (N m, N m/rad),
+        damper ``c_theta`` (N m s/rad) and fitting (kg m^2 about its centre of mass, kg, m; E) as in
+        :meth:`set_hinge`. Then ``set_appendage``, ``set_lock`` and ``add_rigid_part(body=k)`` fill
+        this hinge's body."""
+        n = self.num_hinges
+        expected = "base" if n == 0 else n - 1
+        allowed = ("'base' (the first hinge)" if n == 0 else
+                   f"{n - 1} (the last hinge's body: deployfx builds serial chains)")
+        if isinstance(parent, str):
+            same = parent == expected
+        else:
+            same = expected != "base" and as_int("hinge.parent", parent) == expected
+        if not same:
+            raise ValueError(f"hinge.parent = {parent!r} is out of range: must be {allowed}")
+        name = f"hinges[{n}]"
+        hinge = _hinge_dict(name, point, axis, R_PE0, "R_PE0", tau0, k_theta, c_theta, fitting_inertia,
+                            fitting_mass, fitting_com)
+        hinge["spin_up"] = None
+        self._assign(n, "hinge", hinge)
         return self
 
     def set_appendage(self, shell: ShellModel, fixed_dofs: Sequence[int], fidelity: str = "nonlinear",
                       damping: tuple[float, float] = (0.0, 0.0), modes: int = 10,
-                      derivative_modes: Optional[int] = None) -> "Scene":
+                      derivative_modes: Optional[int] = None, hinge: Optional[int] = None) -> "Scene":
         """The appendage: a shell mesh with node coordinates in E (m), the dofs clamped to E (its
         root edge) and the fidelity: "rigid" (one rigid body: the mesh's mass distribution),
         "linear" (linear strain) or "nonlinear" (Green strain, You et al. 2016 Eq. 14), or these
@@ -332,7 +327,9 @@ class Scene:
         first ``derivative_modes`` modes (None: min(modes, 6)), with the exact polynomial internal
         force in that basis (docs/engine-design.md).
         ``damping = (alpha_M, beta_K)``: structural Rayleigh damping C = alpha_M M + beta_K K
-        (1/s, s), a modal damping ratio (alpha_M / omega + beta_K omega) / 2."""
+        (1/s, s), a modal damping ratio (alpha_M / omega + beta_K omega) / 2.
+        ``hinge``: the hinge whose body the appendage is (None: the last hinge declared); in a
+        chain of several hinges every appendage must be "rigid"."""
         if not isinstance(shell, ShellModel):
             raise TypeError(f"shell must be a deployfx.ShellModel, got {type(shell).__name__}")
         if fidelity not in FIDELITIES:
@@ -353,28 +350,39 @@ class Scene:
             if not 0 <= derivative_modes <= modes:
                 raise ValueError(f"appendage.derivative_modes = {derivative_modes} is out of range: must be "
                                  f"in [0, modes = {modes}] or None")
-        self._appendage = dict(shell=shell, fixed=tuple(fixed), fidelity=fidelity, alpha_M=alpha_M,
-                               beta_K=beta_K, modes=modes, derivative_modes=derivative_modes)
+        self._assign(self._index(hinge, "appendage"), "appendage", dict(
+            shell=shell, fixed=tuple(fixed), fidelity=fidelity, alpha_M=alpha_M, beta_K=beta_K, modes=modes,
+            derivative_modes=derivative_modes))
         return self
 
     def set_lock(self, theta_lock: float, pin_radius: float, clearance: float, law: ContactLaw,
-                 friction: Friction = Friction(0.0)) -> "Scene":
+                 friction: Friction = Friction(0.0), hinge: Optional[int] = None) -> "Scene":
         """The lock: the pin (at ``pin_radius`` m from the axis) seats at hinge travel
         ``theta_lock`` (rad); ``clearance`` (m) is its play once latched; ``law`` the normal
-        contact force, ``friction`` the groove's Coulomb friction (see joint/hinge_lock.hpp)."""
+        contact force, ``friction`` the groove's Coulomb friction (see joint/hinge_lock.hpp).
+        ``hinge``: the hinge it locks (None: the last hinge declared)."""
         if not isinstance(law, ContactLaw):
             raise TypeError(f"law must be a deployfx.contact.ContactLaw, got {type(law).__name__}")
         if not isinstance(friction, Friction):
             raise TypeError(f"friction must be a deployfx.contact.Friction, got {type(friction).__name__}")
-        self._lock = dict(theta_lock=as_float("lock.theta_lock", theta_lock),
-                          pin_radius=as_float("lock.pin_radius", pin_radius),
-                          clearance=as_float("lock.clearance", clearance), law=law, friction=friction)
+        self._assign(self._index(hinge, "lock"), "lock", dict(
+            theta_lock=as_float("lock.theta_lock", theta_lock), pin_radius=as_float("lock.pin_radius", pin_radius),
+            clearance=as_float("lock.clearance", clearance), law=law, friction=friction))
         return self
 
-    def compile(self, description: Optional[dict] = None) -> Model:
-        """Validate and build the immutable :class:`Model` (ValueError names any bad parameter)."""
-        for name, part in (("base", self._base), ("hinge", self._hinge), ("appendage", self._appendage)):
-            if part is None:
+    def compile(self, description: Optional[dict] = None):
+        """Validate and build the immutable model (ValueError names any bad parameter): a
+        :class:`Model` for one hinge with an appendage, a :class:`~deployfx.chain.ChainModel` for a
+        chain of several hinges (or one hinge carrying rigid parts only)."""
+        if self._base is None:
+            raise ValueError("the scene has no base: call set_base() first")
+        first = self._links[0]
+        if len(self._links) > 1 or (first["appendage"] is None and first["parts"]):  # a yoke alone, too
+            from .chain import compile_chain
+
+            return compile_chain(self._base, self._parts, self._links, description)
+        for name in ("hinge", "appendage"):
+            if self._links[0][name] is None:
                 raise ValueError(f"the scene has no {name}: call set_{name}() first")
         base, free = self._base
         for p in self._parts:
@@ -382,12 +390,10 @@ class Scene:
         h, a = self._hinge, self._appendage
         if h["spin_up"] is not None and self._lock is not None:
             raise ValueError("a hinge with a prescribed angle (spin_up) cannot have a lock")
-        lock = None
-        if self._lock is not None:
-            L = self._lock
-            lock = _core.HingeLockSpec(L["theta_lock"], L["pin_radius"], L["clearance"], L["law"]._impl,
-                                       L["friction"].mu, L["friction"].v_reg)
+        lock = _lock_spec(self._lock)
         f = h["fitting"]
+        for p in self._links[0]["parts"]:  # parts on the hinge's body turn with E, as the fitting does
+            f = f + p
         system = _core.HingedSystem(free, base.mass if free else 1.0, base.inertia if free else np.eye(3),
                                     h["point"], h["axis"], h["R_BE0"], h["tau0"], h["k_theta"], h["c_theta"],
                                     h["spin_up"], a["shell"]._impl, list(a["fixed"]), a["fidelity"],
@@ -399,3 +405,32 @@ class Scene:
                      has_lock=lock is not None, fixed_dofs=a["fixed"], description=dict(description or {}),
                      hinge={k: h[k].copy() for k in ("point", "axis", "R_BE0")},
                      conservative=h["spin_up"] is None)
+
+
+def _new_link() -> dict:
+    return dict(hinge=None, appendage=None, lock=None, parts=[])
+
+
+def _hinge_dict(name: str, point, axis, R, R_name: str, tau0, k_theta, c_theta, fitting_inertia,
+                fitting_mass, fitting_com) -> dict:
+    """A hinge's parameters, checked, with errors naming ``<name>.<parameter>``. The key ``R_BE0``
+    holds the hinge frame's axes at theta = 0 in its parent's (B for hinge 0: set_hinge's R_BE0,
+    add_hinge's R_PE0)."""
+    axis = _vector(f"{name}.axis", axis)
+    if abs(np.linalg.norm(axis) - 1) > 1e-9:
+        raise ValueError(f"{name}.axis = {axis.tolist()} must be a unit vector")
+    R = _matrix3(f"{name}.{R_name}", R)
+    if np.abs(R.T @ R - np.eye(3)).max() > 1e-9 or np.linalg.det(R) < 0:
+        raise ValueError(f"{name}.{R_name} must be a rotation matrix")
+    fitting = RigidPart.make(f"{name}.fitting", fitting_mass, fitting_com, fitting_inertia)
+    return dict(point=_vector(f"{name}.point", point), axis=axis, R_BE0=R,
+                tau0=as_float(f"{name}.tau0", tau0), k_theta=as_float(f"{name}.k_theta", k_theta),
+                c_theta=as_float(f"{name}.c_theta", c_theta), fitting=fitting)
+
+
+def _lock_spec(lock: Optional[dict]):
+    """The engine's lock from the builder's dict (None: no lock)."""
+    if lock is None:
+        return None
+    return _core.HingeLockSpec(lock["theta_lock"], lock["pin_radius"], lock["clearance"], lock["law"]._impl,
+                               lock["friction"].mu, lock["friction"].v_reg)

@@ -163,11 +163,16 @@ def scene_to_dict(scene: Scene) -> dict:
     """The scene as a plain dict of the schema above (str keys; bool, int, float, str, lists, dicts;
     no None), ready for JSON or TOML. ``scene``: a :class:`Scene`, or a ready scene keeping one as
     ``.scene`` (``scenes.paper2016(...)``). Raises TypeError for anything else and ValueError for
-    a scene without a base, hinge or appendage."""
+    a scene without a base, hinge or appendage, or with several hinges (a chain: not yet in
+    the schema)."""
     if not isinstance(scene, Scene) and isinstance(getattr(scene, "scene", None), Scene):
         scene = scene.scene
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a deployfx.Scene, got {type(scene).__name__}")
+    if scene.num_hinges > 1 or scene._links[0]["parts"]:
+        raise ValueError(f"scene files hold one-hinge scenes (schema version {VERSION}): this scene has "
+                         f"{scene.num_hinges} hinges or rigid parts on a hinge's body, which cannot be "
+                         "written yet")
     for name in ("base", "hinge", "appendage"):
         if getattr(scene, f"_{name}") is None:
             raise ValueError(f"the scene has no {name}: call set_{name}() first")

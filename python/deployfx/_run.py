@@ -1,0 +1,103 @@
+"""Running a compiled model: argument checks, the result and its metadata, the divergence check
+and the progress bar, shared by :class:`deployfx.Model` and :class:`deployfx.chain.ChainModel`."""
+from __future__ import annotations
+
+import sys
+from typing import Optional
+
+import numpy as np
+
+from ._checks import as_float
+from .integrators import HHT, Newmark, SimulationError, _check_scheme
+from .results import Result
+
+
+def _run_arguments(t_end, dt, scheme, tolerance) -> tuple:
+    """(t_end, dt, tolerance (0: fixed steps), scheme) checked for a run; ValueError or TypeError
+    naming the bad one."""
+    t_end, dt = as_float("t_end", t_end), as_float("dt", dt)
+    if not (np.isfinite(dt) and dt > 0):
+        raise ValueError(f"dt = {dt} is out of range: must be > 0 (s)")
+    if not (np.isfinite(t_end) and t_end >= 0):
+        raise ValueError(f"t_end = {t_end} is out of range: must be >= 0 (s)")
+    scheme = _check_scheme(scheme)
+    tol = 0.0 if tolerance is None else as_float("tolerance", tolerance)
+    if not (np.isfinite(tol) and tol >= 0):
+        raise ValueError(f"tolerance = {tol} is out of range: must be > 0 (m or rad) or None")
+    return t_end, dt, tol, scheme
+
+
+def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float, t_end: float,
+                tolerance, wall: float, conservative: bool) -> Result:
+    """The :class:`Result` of a run from the engine's ``raw`` dict and the chosen series ``out``,
+    with the run's metadata added to ``meta``; raises SimulationError (holding the result) if the
+    run stopped early or, for a ``conservative`` scene, its energy grew (_energy_growth)."""
+    meta.update(dt=dt, t_end=t_end, integrator=_scheme_name(scheme),
+                steps=int(raw["steps"]), substeps=int(raw["substeps"]), rejected=int(raw["rejected"]),
+                events=int(raw["events"]), tolerance=tolerance,
+                newton_iterations=int(np.sum(raw["newton_iterations"])),
+                factorizations=int(raw["factorizations"]), wall_time_s=wall)
+    if conservative:  # report the growth first: it explains a later Newton failure
+        raw["failure"] = "; then ".join(m for m in (_energy_growth(raw), raw["failure"]) if m)
+    if raw["failure"]:
+        meta["failure"] = raw["failure"]
+    result = Result(out, units=units, metadata=meta)
+    if raw["failure"]:
+        raise SimulationError(f"{raw['failure']}; the result up to t = {raw['t'][-1]:.6g} s is in "
+                              f"the exception's .result", result)
+    return result
+
+
+#: Energy growth (J, relative to the peak kinetic energy) beyond which an undriven run is
+#: declared diverged: the trapezoidal rule's O(dt^2) energy error is orders below it.
+ENERGY_GROWTH_LIMIT = 0.1
+
+
+def _energy_growth(raw: dict) -> str:
+    """A message if the total energy of an undriven run grew by more than ENERGY_GROWTH_LIMIT of
+    the peak kinetic energy (a step too large for a stiff contact or a light base), else ''."""
+    E = raw["kinetic_energy"] + raw["potential_energy"]
+    if len(E) < 2:
+        return ""
+    scale = max(raw["kinetic_energy"].max(), np.finfo(float).tiny)
+    excess = (E - E[0]) / scale
+    over = np.flatnonzero(~(excess <= ENERGY_GROWTH_LIMIT))  # NaN counts as growth
+    if over.size == 0:
+        return ""
+    k = over[0]
+    return (f"diverged: the total energy grew by {excess[k]:.3g} x the peak kinetic energy at "
+            f"t = {raw['t'][k]:.6g} s although nothing in the scene adds energy (a step too large "
+            f"for a stiff contact or a light base); use a smaller dt or error-controlled steps "
+            f"(tolerance=)")
+
+
+class _Bar:
+    """A tqdm bar over simulated time (s)."""
+
+    def __init__(self, tqdm, t_end: float):
+        self._bar = tqdm(total=round(t_end, 6), unit="s", unit_scale=False, desc="deployfx",
+                         bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s [{elapsed}<{remaining}]")
+
+    def update_to(self, t: float, t_end: float) -> None:
+        self._bar.update(max(0.0, round(t, 6) - self._bar.n))
+
+    def close(self) -> None:
+        self._bar.close()
+
+
+def _progress_bar(t_end: float, progress: Optional[bool]) -> Optional[_Bar]:
+    if progress is None:
+        progress = sys.stderr is not None and sys.stderr.isatty()
+    if not progress:
+        return None
+    from tqdm.auto import tqdm
+
+    return _Bar(tqdm, t_end)
+
+
+def _scheme_name(scheme) -> str:
+    if isinstance(scheme, Newmark):
+        return f"Newmark(beta={scheme.beta}, gamma={scheme.gamma})"
+    if isinstance(scheme, HHT):
+        return f"HHT(alpha={scheme.alpha})"
+    return f"GeneralizedAlpha(rho_inf={scheme.rho_inf})"

@@ -1,0 +1,406 @@
+"""A chain of hinges: a base carrying rigid bodies in series on spring hinges (issue 5).
+
+Each test names its independent reference:
+- one hinge: the single-hinge engine (system::HingedSystem, its own derivation and code) with a
+  rigid appendage;
+- two links with parallel axes: the closed-form small-oscillation frequencies of the compound
+  double pendulum with torsion springs;
+- three panels on a free base: conservation of momentum and energy;
+- locks: the lock geometry (stop at theta_lock, latch one clearance before it);
+- the Newton and momentum Jacobians: central finite differences.
+"""
+import numpy as np
+import pytest
+import scipy.linalg
+
+import deployfx as dfx
+from deployfx import _core
+from deployfx.chain import ChainModel, rigid_appendage
+from deployfx.contact import ContactLaw, Friction
+from deployfx.integrators import GeneralizedAlpha
+from deployfx.scene import RigidPart
+
+from test_hinged_system import B_H, J_BASE, K_THETA, M_BASE, P_HINGE, TAU0, W, Ry, make_system
+
+Y = np.array([0.0, 1.0, 0.0])
+
+
+def rod(mass, length):
+    """A slender bar along its frame's x from the origin: (mass kg, com m, inertia about the com
+    kg m^2) with m L^2 / 12 about y and z (and a small x term so the inertia is definite)."""
+    I = mass * length**2 / 12
+    return mass, np.array([length / 2, 0.0, 0.0]), np.diag([1e-3 * I, I, I])
+
+
+def spec(point, axis, body, R=np.eye(3), tau0=0.0, k=0.0, c=0.0, lock=None):
+    m, com, J = body
+    return _core.ChainHingeSpec(np.asarray(point, float), np.asarray(axis, float), R, tau0, k, c, m, com, J,
+                                lock=lock)
+
+
+def paper_chain_of_one():
+    """The paper's rigid appendage (4 x 2 mesh, fitting 0.02 kg m^2) as a chain of one hinge."""
+    plate = dfx.paper2016.appendage_plate(2, 4, 2)
+    nodes = plate.model.nodes.copy()
+    nodes[:, 0] += B_H
+    nodes[:, 1] -= W / 2
+    body = rigid_appendage(dfx.ShellModel(nodes, plate.model.quads, plate.laminate))
+    body = body + RigidPart(0.0, np.zeros(3), 0.02 * np.eye(3))
+    h = spec(P_HINGE, Y, (body.mass, body.com, body.inertia), Ry(-np.pi / 2), TAU0, K_THETA)
+    return _core.HingeChain(True, M_BASE, J_BASE * np.eye(3), hinges=[h])
+
+
+def random_state(n_q, n_v, seed, free=True):
+    rng = np.random.default_rng(seed)
+    q = np.zeros(n_q)
+    if free:
+        q[:3] = [0.1, -0.2, 0.3]
+        q[3:7] = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])
+        q[7:] = rng.uniform(-1, 1, n_q - 7)
+    else:
+        q[:] = rng.uniform(-1, 1, n_q)
+    return q, rng.normal(size=n_v), rng.normal(size=n_v)
+
+
+# ------------------------------------------------------------------------------------------------
+# (a) One hinge: the single-hinge engine
+
+def test_one_hinge_chain_residual_matches_hinged_system():
+    """Reference: HingedSystem with a rigid appendage (the mesh's mass merged with the fitting);
+    the same coordinates, so the residuals agree to round-off (1e-10 relative)."""
+    hs, ch = make_system("rigid", free=True, fitting=0.02), paper_chain_of_one()
+    assert (ch.num_positions, ch.num_velocities) == (hs.num_positions, hs.num_velocities) == (8, 7)
+    for seed in range(3):
+        q, v, a = random_state(8, 7, seed)
+        r = hs.residual(q, v, a, 0.0)
+        assert np.abs(ch.residual(q, v, a, 0.0) - r).max() <= 1e-10 * np.abs(r).max()
+        P = hs.momentum(q, v)
+        assert np.abs(ch.momentum(q, v) - P).max() <= 1e-10 * np.abs(P).max()
+        S = hs.iteration_matrix(q, v, a, 0.0, 1.0, 0.05, 0.01)
+        assert np.abs(ch.iteration_matrix(q, v, a, 0.0, 1.0, 0.05, 0.01) - S).max() <= 1e-7 * np.abs(S).max()
+
+
+def test_one_hinge_chain_trajectory_matches_hinged_system():
+    """Reference: HingedSystem's run of the paper's rigid deployment (3 s, dt = 0.01 s, past
+    180 deg): every coordinate within 1e-10 (m, rad)."""
+    hs, ch = make_system("rigid", free=True, fitting=0.02), paper_chain_of_one()
+    scheme = GeneralizedAlpha(0.8)._params()
+    q0, v0 = hs.initial_positions(), np.zeros(7)
+    ref = _core.simulate_hinged(hs, q0, v0, 3.0, 0.01, scheme)
+    run = _core.simulate_chain(ch, q0, v0, 3.0, 0.01, scheme)
+    assert ref["failure"] == run["failure"] == ""
+    assert run["theta"].shape == (len(run["t"]), 1)
+    assert run["theta"][-1, 0] > np.pi / 2
+    np.testing.assert_allclose(run["t"], ref["t"], rtol=0, atol=1e-14)
+    assert np.abs(run["q"] - ref["q"]).max() < 1e-10
+    assert np.abs(run["kinetic_energy"] - ref["kinetic_energy"]).max() < 1e-10 * ref["kinetic_energy"].max()
+
+
+# ------------------------------------------------------------------------------------------------
+# (b) Two links, parallel axes: the compound double pendulum with torsion springs
+
+M1, L1, M2, L2, K1, K2 = 2.0, 1.0, 1.5, 0.8, 5.0, 3.0  # kg, m, kg, m, N m/rad, N m/rad
+
+
+def double_pendulum():
+    """Fixed base; link 1 on a hinge at the origin, link 2 on a hinge at its end (x = L1), both
+    axes along y; straight (both along x) at theta = 0, where the springs are relaxed."""
+    return _core.HingeChain(False, 1.0, np.eye(3), hinges=[
+        spec([0, 0, 0], Y, rod(M1, L1), k=K1), spec([L1, 0, 0], Y, rod(M2, L2), k=K2)])
+
+
+def double_pendulum_reference():
+    """Mass and stiffness matrices of the linearised planar compound double pendulum about the
+    straight configuration, in the relative angles (theta_1, theta_2) (Lagrange's equations,
+    e.g. Meirovitch, Fundamentals of Vibrations, 2001, Sec. 6.2; Greenwood, Principles of
+    Dynamics, 1988, Ch. 4). With absolute angles phi_1 = theta_1, phi_2 = theta_1 + theta_2, link
+    i's centre at c_i = L_i / 2 and I_i = m_i L_i^2 / 12 about it:
+      T = 1/2 (I_1 + m_1 c_1^2) phi_1'^2 + 1/2 m_2 (L_1^2 phi_1'^2 + 2 L_1 c_2 phi_1' phi_2' cos(phi_2 - phi_1)
+          + c_2^2 phi_2'^2) + 1/2 I_2 phi_2'^2,   V = 1/2 k_1 theta_1^2 + 1/2 k_2 theta_2^2,
+    and at phi_2 = phi_1 the cosine is 1."""
+    c1, c2, I1, I2 = L1 / 2, L2 / 2, M1 * L1**2 / 12, M2 * L2**2 / 12
+    m22 = I2 + M2 * c2**2
+    m12 = m22 + M2 * L1 * c2
+    m11 = I1 + M1 * c1**2 + M2 * L1**2 + 2 * M2 * L1 * c2 + m22
+    return np.array([[m11, m12], [m12, m22]]), np.diag([K1, K2])
+
+
+def test_double_pendulum_matrices_match_the_closed_form():
+    """M(0) = the closed form to round-off; the stiffness dr/dq at rest = diag(k) (differences, 1e-6)."""
+    ch = double_pendulum()
+    M, K = double_pendulum_reference()
+    z = np.zeros(2)
+    np.testing.assert_allclose(ch.mass_matrix(z), M, rtol=1e-13, atol=1e-13)
+    np.testing.assert_allclose(ch.iteration_matrix(z, z, z, 0.0, 0.0, 0.0, 1.0), K, rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("mode", [0, 1])
+def test_double_pendulum_frequencies(mode):
+    """Reference: det(K - w^2 M) = 0 with M, K of double_pendulum_reference(). A run started in
+    mode `mode` (1e-4 rad, so the nonlinear terms shift the frequency by ~1e-8) oscillates in it;
+    its period from the zero crossings of the modal coordinate matches 2 pi / w within 0.5 %
+    (trapezoidal rule, rho_inf = 1, 200 steps a period: period error (w h)^2 / 12 = 8e-5)."""
+    M, K = double_pendulum_reference()
+    w2, shapes = scipy.linalg.eigh(K, M)
+    w, phi = np.sqrt(w2[mode]), shapes[:, mode]
+    period = 2 * np.pi / w
+    ch = double_pendulum()
+    q0 = 1e-4 * phi / np.abs(phi).max()
+    run = _core.simulate_chain(ch, q0, np.zeros(2), 6 * period, period / 200, GeneralizedAlpha(1.0)._params())
+    assert run["failure"] == ""
+    eta = run["theta"] @ (M @ phi)  # modal coordinate
+    other = run["theta"] @ (M @ shapes[:, 1 - mode])
+    assert np.abs(other).max() < 1e-6 * np.abs(eta).max()  # the mode stays uncoupled
+    t = run["t"]
+    k = np.flatnonzero(np.sign(eta[:-1]) != np.sign(eta[1:]))
+    crossings = t[k] - eta[k] * (t[k + 1] - t[k]) / (eta[k + 1] - eta[k])
+    measured = 2 * np.mean(np.diff(crossings))
+    assert len(crossings) >= 10
+    assert abs(measured / period - 1) < 5e-3
+
+
+# ------------------------------------------------------------------------------------------------
+# (c) Three panels on a free base: conservation
+
+def three_panels(c=0.0, locks=(None, None, None), free=True):
+    """A free base (500 kg) and three 4 kg panels of 1 m, the axes not all parallel (a 3-D
+    motion), preloaded springs."""
+    R = Ry(-np.pi / 2)
+    return _core.HingeChain(free, 500.0, np.diag([80.0, 100.0, 120.0]), base_com=np.array([0.02, 0.0, -0.01]),
+                            hinges=[spec([0.6, 0, 0.1], Y, rod(4.0, 1.0), R, 1.5, 0.4, c, locks[0]),
+                                    spec([1.0, 0, 0.02], np.array([0.0, 0.6, 0.8]), rod(4.0, 1.0), np.eye(3),
+                                         1.0, 0.3, c, locks[1]),
+                                    spec([1.0, 0, -0.02], np.array([0.0, 0.0, 1.0]), rod(4.0, 1.0), np.eye(3),
+                                         -0.8, 0.2, c, locks[2])])
+
+
+def test_three_panels_conserve_momentum_and_energy():
+    """Reference: with no external load and no dissipation, the total momentum (linear, and
+    angular about W's origin) is constant, to round-off (1e-12 of its size, the base rows being
+    solved as Pi_n+1 = Pi_n); the energy drifts only by the trapezoidal rule's O(h^2) error, here
+    within 1e-6 of the peak kinetic energy (rho_inf = 1, dt = 1 ms, 3 s)."""
+    ch = three_panels()
+    q0 = ch.initial_positions()
+    v0 = np.array([0.01, -0.02, 0.005, 0.02, -0.05, 0.03, 0.1, -0.2, 0.3])  # m/s, rad/s
+    run = _core.simulate_chain(ch, q0, v0, 3.0, 1e-3, GeneralizedAlpha(1.0)._params())
+    assert run["failure"] == ""
+    Pi = np.hstack([run["linear_momentum"], run["angular_momentum"]])
+    scale = np.abs(Pi[0]).max()
+    assert np.abs(Pi - Pi[0]).max() <= 1e-12 * scale
+    exchanged = np.abs(run["base_angular_momentum"] - run["base_angular_momentum"][0]).max()
+    assert exchanged > 1e-2 * scale  # the panels really did trade momentum with the base
+    assert np.ptp(run["theta"], axis=0).min() > 0.3  # and swung
+    E = run["kinetic_energy"] + run["potential_energy"]
+    assert np.abs(E - E[0]).max() <= 1e-6 * run["kinetic_energy"].max()
+
+
+def test_jacobians_match_finite_differences():
+    """Reference: central differences. dr/da = M exactly (r is affine in a); dPi/dv = A(q) exactly
+    (Pi is linear in v); dr/dv, dr/dq (along retract) and dPi/dq to the differences' 1e-6."""
+    ch = three_panels(c=0.3)
+    q, v, a = random_state(10, 9, 4)
+    n = 9
+    M = ch.iteration_matrix(q, v, a, 0.0, 1.0, 0.0, 0.0)
+    np.testing.assert_allclose(M, M.T, atol=1e-12 * np.abs(M).max())
+    assert np.linalg.eigvalsh(M).min() > 0
+    E = np.eye(n)
+    dr_da = np.column_stack([(ch.residual(q, v, a + E[j], 0.0) - ch.residual(q, v, a - E[j], 0.0)) / 2
+                             for j in range(n)])
+    np.testing.assert_allclose(M, dr_da, rtol=0, atol=1e-10 * np.abs(M).max())
+    h = 1e-6
+    dr_dv = np.column_stack([(ch.residual(q, v + h * E[j], a, 0.0) - ch.residual(q, v - h * E[j], a, 0.0)) / (2 * h)
+                             for j in range(n)])
+    dr_dq = np.column_stack([(ch.residual(ch.retract(q, h * E[j]), v, a, 0.0) -
+                              ch.residual(ch.retract(q, -h * E[j]), v, a, 0.0)) / (2 * h) for j in range(n)])
+    S = ch.iteration_matrix(q, v, a, 0.0, 0.0, 1.0, 0.0)
+    np.testing.assert_allclose(S, dr_dv, rtol=0, atol=1e-6 * np.abs(dr_dv).max())
+    S = ch.iteration_matrix(q, v, a, 0.0, 0.0, 0.0, 1.0)
+    np.testing.assert_allclose(S, dr_dq, rtol=0, atol=1e-6 * np.abs(dr_dq).max())
+    A = np.column_stack([(ch.momentum(q, v + E[j]) - ch.momentum(q, v - E[j])) / 2 for j in range(n)])
+    np.testing.assert_allclose(ch.momentum_jacobian(q, v, 1.0, 0.0), A, rtol=0, atol=1e-12 * np.abs(A).max())
+    dP_dq = np.column_stack([(ch.momentum(ch.retract(q, h * E[j]), v) - ch.momentum(ch.retract(q, -h * E[j]), v))
+                             / (2 * h) for j in range(n)])
+    np.testing.assert_allclose(ch.momentum_jacobian(q, v, 0.0, 1.0), dP_dq, rtol=0, atol=1e-6 * np.abs(dP_dq).max())
+
+
+# ------------------------------------------------------------------------------------------------
+# (d) Locks on two hinges
+
+def test_both_locks_latch_and_hold_the_deployed_array():
+    """Reference: the lock's geometry and statics (joint/hinge_lock.hpp). Two panels on a fixed rig
+    deploy through 90 deg into Kelvin-Voigt-Hertz locks (pin 30 mm, clearance 0.1 mm); with a
+    little hinge damping both latch and the array comes to rest against the stops, each hinge
+    past theta_lock by the static penetration of its spring's torque (tau0 - k theta_lock) / r_pin
+    = K delta^1.5, delta = r_pin (theta - theta_lock) (the springs between the panels are internal
+    to the chain and load hinge 0's lock with nothing), within 1 %."""
+    theta_lock, r_pin, clearance = np.pi / 2, 0.03, 1e-4
+    law = ContactLaw("kelvin-voigt-hertz", K=1e9, n=1.5, D=1e4)
+    lock = _core.HingeLockSpec(theta_lock, r_pin, clearance, law._impl, 0.2, Friction(0.2).v_reg)
+    ch = _core.HingeChain(False, 1.0, np.eye(3), hinges=[
+        spec([0, 0, 0], Y, rod(5.0, 1.0), tau0=4.0, k=0.5, c=0.5, lock=lock),
+        spec([1.02, 0, 0], Y, rod(5.0, 1.0), tau0=2.0, k=0.3, c=0.5, lock=lock)])
+    run = _core.simulate_chain(ch, ch.initial_positions(), np.zeros(2), 15.0, 0.01, GeneralizedAlpha(0.8)._params())
+    assert run["failure"] == ""
+    assert np.all(run["latched"][-1] == 1)
+    first = [run["t"][np.flatnonzero(run["lock_force"][:, k] > 0)[0]] for k in range(2)]
+    assert all(0.5 < t < 10.0 for t in first)
+    assert np.abs(run["theta_rate"][-1]).max() < 1e-9  # at rest
+    torque = np.array([4.0 - 0.5 * theta_lock, 2.0 - 0.3 * theta_lock])  # N m, at the lock
+    static = (torque / r_pin / 1e9) ** (1 / 1.5) / r_pin  # rad past theta_lock
+    np.testing.assert_allclose(run["theta"][-1] - theta_lock, static, rtol=1e-2)
+
+
+# ------------------------------------------------------------------------------------------------
+# (e) Bad specifications
+
+@pytest.mark.parametrize("change, name", [
+    (lambda h: h.update(axis=np.array([0.0, 1.0, 1.0])), "hinges[1].axis"),
+    (lambda h: h.update(k=-1.0), "hinges[1].k_theta"),
+    (lambda h: h.update(c=-0.1), "hinges[1].c_theta"),
+    (lambda h: h.update(R=2 * np.eye(3)), "hinges[1].R_PC0"),
+    (lambda h: h.update(tau0=np.inf), "hinges[1].tau0"),
+    (lambda h: h.update(body=(-1.0, np.zeros(3), np.eye(3))), "hinges[1].body.mass"),
+    (lambda h: h.update(body=(1.0, np.zeros(3), -np.eye(3))), "hinges[1].body.inertia"),
+    (lambda h: h.update(body=(0.0, np.zeros(3), np.zeros((3, 3)))), "hinges[1].body"),
+])
+def test_bad_hinge_specs_raise_value_error_naming_them(change, name):
+    h = dict(point=[1.0, 0, 0], axis=Y, body=rod(1.0, 1.0), R=np.eye(3), tau0=0.0, k=1.0, c=0.0)
+    change(h)
+    with pytest.raises(ValueError, match=name.replace("[", r"\[").replace("]", r"\]")):
+        _core.HingeChain(False, 1.0, np.eye(3), hinges=[spec([0, 0, 0], Y, rod(1.0, 1.0)), spec(**h)])
+
+
+def test_bad_chain_specs_raise_value_error():
+    with pytest.raises(ValueError, match="hinges must hold at least one hinge"):
+        _core.HingeChain(False, 1.0, np.eye(3), hinges=[])
+    with pytest.raises(ValueError, match="base.mass"):
+        _core.HingeChain(True, 0.0, np.eye(3), hinges=[spec([0, 0, 0], Y, rod(1.0, 1.0))])
+    with pytest.raises(ValueError, match="base.inertia"):
+        _core.HingeChain(True, 1.0, np.zeros((3, 3)), hinges=[spec([0, 0, 0], Y, rod(1.0, 1.0))])
+    ch = double_pendulum()
+    with pytest.raises(ValueError, match="q, v, a must have sizes 2, 2, 2"):
+        ch.residual(np.zeros(3), np.zeros(2), np.zeros(2), 0.0)
+    with pytest.raises(ValueError, match="sizes"):
+        _core.simulate_chain(ch, np.zeros(2), np.zeros(5), 1.0, 0.1, GeneralizedAlpha(0.8)._params())
+
+
+# ------------------------------------------------------------------------------------------------
+# The scene builder
+
+def panel(length=1.0, width=0.5, nx=4, ny=2, offset=0.02):
+    """An aluminium panel (2 mm) on an nx x ny mesh, root edge `offset` m from its hinge axis."""
+    lam = dfx.Laminate([dfx.Ply(dfx.Isotropic(E=70e9, nu=0.33, rho=2700.0), 2e-3)])
+    plate = dfx.Plate(length, width, lam, nx=nx, ny=ny)
+    nodes = plate.model.nodes.copy()
+    nodes[:, 0] += offset
+    nodes[:, 1] -= width / 2
+    return dfx.ShellModel(nodes, plate.model.quads, lam), plate.fixed_dofs("CFFF")
+
+
+LAW = ContactLaw("kelvin-voigt-hertz", K=1e9, n=1.5, D=1e4)
+
+
+def array_scene(fidelity="rigid", locks=True):
+    """A free base, a yoke (a rigid part on hinge 0's body) and two rigid panels."""
+    shell, root = panel()
+    scene = (dfx.Scene().set_base(200.0, 30.0)
+             .add_hinge("base", point=(0.5, 0, 0), axis=(0, 1, 0), R_PE0=Ry(-np.pi / 2), tau0=2.0, k_theta=0.3,
+                        fitting_inertia=0.01)
+             .add_rigid_part(2.0, np.diag([0.01, 0.1, 0.1]), (0.4, 0, 0), body=0)
+             .add_hinge(0, point=(0.8, 0, 0), axis=(0, 1, 0), R_PE0=Ry(np.pi), tau0=1.5, k_theta=0.2,
+                        fitting_inertia=0.01)
+             .set_appendage(shell, root, "rigid")
+             .add_hinge(1, point=(1.04, 0, 0), axis=(0, 1, 0), R_PE0=Ry(-np.pi), tau0=1.0, k_theta=0.2,
+                        fitting_inertia=0.01)
+             .set_appendage(shell, root, fidelity))
+    if locks:
+        for k, angle in enumerate((np.pi / 2, np.pi, np.pi)):
+            scene.set_lock(angle, 0.03, 1e-4, LAW, hinge=k)
+    return scene
+
+
+def test_scene_builds_and_runs_a_chain():
+    model = array_scene().compile(description={"scene": "test array"})
+    assert isinstance(model, ChainModel)
+    assert model.num_hinges == 3 and model.base_free and model.locks == (True, True, True)
+    shell, _ = panel()
+    # The panel bodies: the mesh's mass plus the fitting's; the yoke: the part alone.
+    assert model.hinges[0]["mass"] == pytest.approx(2.0)
+    assert model.hinges[1]["mass"] == pytest.approx(shell.mass)
+    r = model.simulate(1.0, 0.01)
+    n = len(r.t)
+    for name in ("deployment_angle", "spring_torque", "lock_force", "theta", "latched"):
+        assert r[name].shape == (n, 3), name
+    assert r.body_attitude.shape == r.total_angular_momentum.shape == (n, 3)
+    np.testing.assert_allclose(r.deployment_angle, np.degrees(r.theta))
+    assert np.all(r.deployment_angle[-1] > 1.0)  # every hinge opened
+    assert r.units["deployment_angle"] == "deg" and r.metadata["hinges"] == 3
+    assert np.abs(r.total_angular_momentum).max() < 1e-12 * np.abs(r.body_angular_momentum).max()
+    s = r.summary()
+    assert isinstance(s["first_lock_time_s"], list) and len(s["first_lock_time_s"]) == 3
+
+
+def test_scene_chain_with_one_hinge_stays_on_the_single_hinge_path():
+    """add_hinge("base", ...) alone is the one-hinge scene of set_hinge: same Model, same run."""
+    shell, root = panel()
+    kw = dict(point=(0.5, 0, 0), axis=(0, 1, 0), tau0=2.0, k_theta=0.3, fitting_inertia=0.01)
+    a = dfx.Scene().set_base(200.0, 30.0).add_hinge("base", R_PE0=Ry(-np.pi / 2), **kw)
+    b = dfx.Scene().set_base(200.0, 30.0).set_hinge(R_BE0=Ry(-np.pi / 2), **kw)
+    for scene in (a, b):
+        scene.set_appendage(shell, root, "rigid")
+    ma, mb = a.compile(), b.compile()
+    assert isinstance(ma, dfx.Model) and isinstance(mb, dfx.Model)
+    np.testing.assert_array_equal(ma.simulate(0.5, 0.01).theta, mb.simulate(0.5, 0.01).theta)
+
+
+def test_scene_rejects_a_flexible_panel_in_a_chain():
+    with pytest.raises(ValueError, match=r"hinges\[2\] appendage fidelity = 'linear'.*rigid panels only"):
+        array_scene("linear").compile()
+
+
+def test_scene_chain_errors_name_the_parameter():
+    shell, root = panel()
+    scene = dfx.Scene().set_base(10.0, 1.0)
+    with pytest.raises(ValueError, match=r"hinge.parent = 0 is out of range: must be 'base'"):
+        scene.add_hinge(0, point=(0, 0, 0), axis=(0, 1, 0))
+    scene.add_hinge("base", point=(0, 0, 0), axis=(0, 1, 0), tau0=1.0).set_appendage(shell, root, "rigid")
+    with pytest.raises(ValueError, match=r"hinge.parent = 'base' is out of range: must be 0"):
+        scene.add_hinge("base", point=(0, 0, 0), axis=(0, 1, 0))
+    with pytest.raises(ValueError, match=r"hinge.parent = 3 is out of range: must be 0 \(the last hinge's body"):
+        scene.add_hinge(3, point=(0, 0, 0), axis=(0, 1, 0))
+    with pytest.raises(ValueError, match=r"hinges\[1\].axis"):
+        scene.add_hinge(0, point=(1, 0, 0), axis=(0, 1, 1))
+    with pytest.raises(ValueError, match=r"hinges\[1\].R_PE0 must be a rotation"):
+        scene.add_hinge(0, point=(1, 0, 0), axis=(0, 1, 0), R_PE0=2.0)
+    with pytest.raises(ValueError, match=r"appendage.hinge = 4 is out of range: must be in \[0, 0\]"):
+        scene.set_appendage(shell, root, "rigid", hinge=4)
+    with pytest.raises(ValueError, match=r"part.body = 'yoke' is invalid"):
+        scene.add_rigid_part(1.0, 1.0, (0, 0, 0), body="yoke")
+    scene.add_hinge(0, point=(1.04, 0, 0), axis=(0, 1, 0), k_theta=-1.0)
+    with pytest.raises(ValueError, match=r"carries no body"):
+        scene.compile()
+    scene.set_appendage(shell, root, "rigid")
+    with pytest.raises(ValueError, match=r"hinges\[1\].k_theta = -1 is out of range: must be finite and >= 0"):
+        scene.compile()
+    scene.add_hinge(1, point=(1.04, 0, 0), axis=(0, 1, 0)).set_appendage(shell, root, "rigid")
+    scene.set_lock(np.pi, -0.03, 1e-4, LAW, hinge=1)
+    with pytest.raises(ValueError, match=r"hinges\[1\].lock.pin_radius = -0.03 is out of range"):
+        scene.compile()
+
+
+def test_scene_file_refuses_a_chain():
+    with pytest.raises(ValueError, match="one-hinge scenes"):
+        dfx.save_scene(array_scene(), "unused.json")
+
+
+def test_scene_yoke_alone_is_a_chain_of_one():
+    """One hinge carrying a rigid part only (a yoke) compiles to a ChainModel; reference: the
+    rigid pendulum on a fixed rig, theta'' = tau0 / J_O from rest (J_O about the axis)."""
+    J = np.diag([0.01, 0.2, 0.2])
+    model = (dfx.Scene().set_base(1.0, 1.0, free=False)
+             .add_hinge("base", point=(0, 0, 0), axis=(0, 1, 0), tau0=0.5)
+             .add_rigid_part(2.0, J, (0.3, 0, 0), body=0).compile())
+    assert isinstance(model, ChainModel) and model.num_hinges == 1
+    r = model.simulate(0.2, 0.01, GeneralizedAlpha(1.0))
+    J_O = 0.2 + 2.0 * 0.3**2
+    np.testing.assert_allclose(r.theta[:, 0], 0.5 / J_O * r.t**2 / 2, rtol=0, atol=1e-12)
