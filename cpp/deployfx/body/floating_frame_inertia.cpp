@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "deployfx/math/so3.hpp"
+
 namespace deployfx::body {
 
 using fem::kElementDofs;
@@ -70,12 +72,13 @@ FloatingFrameInertia FloatingFrameInertia::projected(const Eigen::MatrixXd& Phi)
   p.E0_ = E0_;
   p.S1_ = S1_ * Phi;
   p.C_ = C_ * Phi;
-  auto project = [&](const SparseMatrix& A) {
-    const Eigen::MatrixXd R = Phi.transpose() * (A * Phi);
-    return SparseMatrix(R.sparseView(0.0, 0.0));  // dense r x r: keep every nonzero
-  };
-  for (int k = 0; k < 9; ++k) p.Mij_[k] = project(Mij_[k]);
-  p.M_ = project(M_);
+  // Dense r x r: products with them run as dense matrix-vector products.
+  p.dense_ = true;
+  for (int k = 0; k < 9; ++k)
+    p.Mij_dense_[k] = dense_ ? Eigen::MatrixXd(Phi.transpose() * Mij_dense_[k] * Phi)
+                             : Eigen::MatrixXd(Phi.transpose() * (Mij_[k] * Phi));
+  const Eigen::MatrixXd M = Phi.transpose() * (M_ * Phi);
+  p.M_ = M.sparseView(0.0, 0.0);  // keep every nonzero
   return p;
 }
 
@@ -86,7 +89,17 @@ Eigen::Matrix3d FloatingFrameInertia::J0() const {
 FloatingFrameInertia::SparseMatrix FloatingFrameInertia::Mij(int i, int j) const {
   if (i < 0 || i > 2 || j < 0 || j > 2)
     throw std::invalid_argument("Mij: components i, j must be in {0, 1, 2}");
+  if (dense_) return Mij_dense_[3 * i + j].sparseView(0.0, 0.0);
   return Mij_[3 * i + j];
+}
+
+FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::VectorXd& z) const {
+  Products P;
+  for (int k = 0; k < 9; ++k) {
+    if (dense_) P[k].noalias() = Mij_dense_[k] * z;
+    else P[k] = Mij_[k] * z;
+  }
+  return P;
 }
 
 void FloatingFrameInertia::check(const Eigen::VectorXd& d, const char* name) const {
@@ -105,8 +118,9 @@ Eigen::Matrix3d FloatingFrameInertia::inertia_tensor(const Eigen::VectorXd& d) c
   // E(d) = E0 + c + c^T + q with c_ij = int rho P_i u_j, q_ij = int rho u_i u_j.
   Eigen::Matrix3d E = E0_;
   const Eigen::Matrix<double, 9, 1> c = C_ * d;
+  const Products Pd = products(d);
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) E(i, j) += c(3 * i + j) + c(3 * j + i) + d.dot(Mij_[3 * i + j] * d);
+    for (int j = 0; j < 3; ++j) E(i, j) += c(3 * i + j) + c(3 * j + i) + d.dot(Pd[3 * i + j]);
   return E.trace() * Eigen::Matrix3d::Identity() - E;
 }
 
@@ -114,10 +128,10 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Eig
   check(d, "d");
   // (P + u)~ N row-wise: x: P_y N_z - P_z N_y (and cyclic), the u-part from M_ij.
   Matrix3X H(3, num_dofs());
+  const Products Pd = products(d);
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
-    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j);
-    H.row(i) += (Mij_[3 * j + k].transpose() * d - Mij_[3 * k + j].transpose() * d).transpose();
+    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
   }
   return H;
 }
@@ -136,9 +150,10 @@ Eigen::Matrix3d FloatingFrameInertia::inertia_tensor_rate(const Eigen::VectorXd&
   // Edot = c(dd) + c(dd)^T + int rho (u'_i u_j + u_i u'_j).
   Eigen::Matrix3d Edot;
   const Eigen::Matrix<double, 9, 1> c = C_ * dd;
+  const Products Pd = products(d), Pdd = products(dd);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      Edot(i, j) = c(3 * i + j) + c(3 * j + i) + dd.dot(Mij_[3 * i + j] * d) + d.dot(Mij_[3 * i + j] * dd);
+      Edot(i, j) = c(3 * i + j) + c(3 * j + i) + dd.dot(Pd[3 * i + j]) + d.dot(Pdd[3 * i + j]);
   return Edot.trace() * Eigen::Matrix3d::Identity() - Edot;
 }
 
@@ -154,7 +169,7 @@ Eigen::VectorXd FloatingFrameInertia::centrifugal_load(const Eigen::Vector3d& w)
 FloatingFrameInertia::SparseMatrix FloatingFrameInertia::centrifugal_stiffness(const Eigen::Vector3d& w) const {
   SparseMatrix G(num_dofs(), num_dofs());
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) G += (w(i) * w(j) - (i == j ? w.squaredNorm() : 0.0)) * Mij_[3 * i + j];
+    for (int j = 0; j < 3; ++j) G += (w(i) * w(j) - (i == j ? w.squaredNorm() : 0.0)) * Mij(i, j);
   return G;
 }
 
@@ -163,19 +178,19 @@ FloatingFrameInertia::SparseMatrix FloatingFrameInertia::gyroscopic(const Eigen:
   SparseMatrix G(num_dofs(), num_dofs());
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
-    G += w(j) * Mij_[3 * i + k] - w(k) * Mij_[3 * i + j];
+    G += w(j) * Mij(i, k) - w(k) * Mij(i, j);
   }
   return G;
 }
 
-FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Eigen::VectorXd& z, bool with_C,
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Products& P, bool with_C,
                                                                      const Eigen::Vector3d& x) const {
   // E_ij(d) = E0_ij + C_(ij) d + C_(ji) d + d^T M_ij d, so dE_ij/dd = C_(ij) + C_(ji) + z^T (M_ij + M_ji)
-  // with z = d; (J x) = tr(E) x - E x.
+  // with z = d (M_ij^T z = M_ji z); (J x) = tr(E) x - E x.
   std::array<Eigen::RowVectorXd, 9> g;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      g[3 * i + j] = (Mij_[3 * i + j].transpose() * z + Mij_[3 * j + i].transpose() * z).transpose();
+      g[3 * i + j] = (P[3 * j + i] + P[3 * i + j]).transpose();
       if (with_C) g[3 * i + j] += C_.row(3 * i + j) + C_.row(3 * j + i);
     }
   const Eigen::RowVectorXd trace = g[0] + g[4] + g[8];
@@ -187,26 +202,30 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Eige
   return D;
 }
 
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::coupling_jacobian(const Products& P) {
+  Matrix3X D(3, P[0].size());
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    D.row(i) = (P[3 * j + k] - P[3 * k + j]).transpose();
+  }
+  return D;
+}
+
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_tensor_jacobian(const Eigen::VectorXd& d,
                                                                              const Eigen::Vector3d& x) const {
   check(d, "d");
-  return contract_inertia(d, true, x);
+  return contract_inertia(products(d), true, x);
 }
 
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_rate_jacobian(const Eigen::VectorXd& dd,
                                                                            const Eigen::Vector3d& x) const {
   check(dd, "dd");
-  return contract_inertia(dd, false, x);
+  return contract_inertia(products(dd), false, x);
 }
 
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling_jacobian(const Eigen::VectorXd& y) const {
   check(y, "y");
-  Matrix3X D(3, num_dofs());
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    D.row(i) = (Mij_[3 * j + k] * y - Mij_[3 * k + j] * y).transpose();
-  }
-  return D;
+  return coupling_jacobian(products(y));
 }
 
 FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
@@ -218,11 +237,7 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
   // Every d-dependent integral below is built from the 18 products M_ij d and M_ij dd, formed
   // once (M_ij^T = M_ji); the formulas are those of inertia_tensor(), rotation_coupling(),
   // inertia_tensor_rate(), centrifugal_stiffness() and gyroscopic().
-  std::array<Eigen::VectorXd, 9> Pd, Pdd;
-  for (int k = 0; k < 9; ++k) {
-    Pd[k] = Mij_[k] * d;
-    Pdd[k] = Mij_[k] * dd;
-  }
+  const Products Pd = products(d), Pdd = products(dd);
   const Eigen::Matrix<double, 9, 1> cd = C_ * d, cdd = C_ * dd;
   Eigen::Matrix3d E = E0_, Edot;
   for (int i = 0; i < 3; ++i)
@@ -248,6 +263,83 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
   f.M = s.cross(a) + J * al + H * ddd + w.cross(J * w) + Jdot * w + w.cross(Hdd);
   f.Q = S1_.transpose() * a + H.transpose() * al + M_ * ddd + centrifugal_load(w) + Gd + 2.0 * Gdd;
   return f;
+}
+
+FloatingFrameInertia::ForceJacobians FloatingFrameInertia::inertial_force_jacobians(
+    const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
+    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {
+  check(d, "d");
+  check(dd, "dd");
+  check(ddd, "ddd");
+  const int n = num_dofs();
+  const Products Pd = products(d), Pdd = products(dd), Pddd = products(ddd);
+  // The integrals at d and their rates, as in inertial_forces().
+  const Eigen::Matrix<double, 9, 1> cd = C_ * d, cdd = C_ * dd;
+  Eigen::Matrix3d E = E0_, Edot;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const int ij = 3 * i + j, ji = 3 * j + i;
+      E(i, j) += cd(ij) + cd(ji) + d.dot(Pd[ij]);
+      Edot(i, j) = cdd(ij) + cdd(ji) + dd.dot(Pd[ij]) + d.dot(Pdd[ij]);
+    }
+  const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
+  ForceJacobians out;
+  out.J = E.trace() * I3 - E;
+  const Eigen::Matrix3d Jdot = Edot.trace() * I3 - Edot;
+  const Eigen::Matrix3d& J = out.J;
+  Matrix3X H(3, n);
+  Eigen::VectorXd Gd = Eigen::VectorXd::Zero(n), Gdd = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
+    Gdd += w(j) * Pdd[3 * i + k] - w(k) * Pdd[3 * i + j];
+    for (int l = 0; l < 3; ++l) Gd += (w(i) * w(l) - (i == l ? w.squaredNorm() : 0.0)) * Pd[3 * i + l];
+  }
+  out.s = S0_ + S1_ * d;
+  const Eigen::Vector3d& s = out.s;
+  const Eigen::Vector3d S1dd = S1_ * dd, Hdd = H * dd, Jw = J * w;
+  out.f.F = m_ * a + al.cross(s) + S1_ * ddd + w.cross(w.cross(s)) + 2.0 * w.cross(S1dd);
+  out.f.M = s.cross(a) + J * al + H * ddd + w.cross(Jw) + Jdot * w + w.cross(Hdd);
+  out.f.Q = S1_.transpose() * a + H.transpose() * al + M_ * ddd + centrifugal_load(w) + Gd + 2.0 * Gdd;
+
+  // d(F, M)/d(a, al, w): F = m a - s~ al + w x (w x s) + 2 w x (S1 dd') + ...,
+  // M = s~ a + J al + w x (J w) + Jdot w + w x (H dd') + ...; d(w x (w x s))/dw = (w.s) I + w s^T - 2 s w^T.
+  const Eigen::Matrix3d W = skew(w);
+  out.FM_k << m_ * I3, -skew(s), w.dot(s) * I3 + w * s.transpose() - 2.0 * s * w.transpose() - 2.0 * skew(S1dd),
+      skew(s), J, W * J - skew(Jw) + Jdot - skew(Hdd);
+  // dQ/d(a, al, w) = (S1^T, H^T, d/dw of C_w(w) + G_w(w) d + 2 G_y(w) dd'), with C_w(w) =
+  // sum_ij w_i w_j C_(j,i)^T - |w|^2 sum_i C_(i,i)^T and G_w(w) d = sum_il (w_i w_l - delta_il |w|^2) M_il d.
+  out.Q_k.resize(n, 9);
+  out.Q_k.leftCols<3>() = S1_.transpose();
+  out.Q_k.middleCols<3>(3) = H.transpose();
+  const Eigen::VectorXd trace_C = (C_.row(0) + C_.row(4) + C_.row(8)).transpose();
+  const Eigen::VectorXd trace_P = Pd[0] + Pd[4] + Pd[8];
+  for (int m = 0; m < 3; ++m) {
+    auto col = out.Q_k.col(6 + m);
+    col = -2.0 * w(m) * (trace_C + trace_P);
+    for (int l = 0; l < 3; ++l) {
+      col += w(l) * (C_.row(3 * l + m).transpose() + C_.row(3 * m + l).transpose());
+      col += w(l) * (Pd[3 * m + l] + Pd[3 * l + m]);
+    }
+  }
+  for (int i = 0; i < 3; ++i) {  // 2 G_y(w) dd' = 2 sum_i (w_j M_ik - w_k M_ij) dd', (i, j, k) cyclic
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    out.Q_k.col(6 + j) += 2.0 * Pdd[3 * i + k];
+    out.Q_k.col(6 + k) -= 2.0 * Pdd[3 * i + j];
+  }
+
+  // d(F, M)/d(dd'', dd', d): F's d-part is (al~ + w~ w~) S1 d; M's: s~ a = -a~ S1 d, J(d) al,
+  // H(d) dd'', w x (J(d) w), Jdot(d, dd') w and w x (H(d) dd').
+  const Matrix3X Dw = contract_inertia(Pd, true, w);
+  out.FM_ddd.resize(6, n);
+  out.FM_ddd << S1_, H;
+  out.FM_dd.resize(6, n);
+  out.FM_dd << 2.0 * W * S1_, Dw + W * H;
+  out.FM_d.resize(6, n);
+  out.FM_d << (skew(al) + W * W) * S1_,
+      -skew(a) * S1_ + contract_inertia(Pd, true, al) + coupling_jacobian(Pddd) + W * Dw +
+          contract_inertia(Pdd, false, w) + W * coupling_jacobian(Pdd);
+  return out;
 }
 
 }  // namespace deployfx::body

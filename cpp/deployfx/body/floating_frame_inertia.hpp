@@ -80,17 +80,45 @@ class FloatingFrameInertia {
                                  const Eigen::Vector3d& w, const Eigen::VectorXd& d,
                                  const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const;
 
+  /// The inertial forces with their first derivatives, analytic (docs/engine-design.md,
+  /// "Body-level equations"), from one set of the 27 products M_ij d, M_ij dd, M_ij dd'' (M_ij^T
+  /// = M_ji). The d-, dd- and dd''-derivatives of Q are the sparse combinations L_c (dd''),
+  /// 2 G_y(w) (dd) and G_y(al) + G_w(w) (d), which the caller forms on its own pattern.
+  struct ForceJacobians {
+    InertialForces f;
+    Eigen::Vector3d s;    ///< s(d), kg m
+    Eigen::Matrix3d J;    ///< J(d) about E's origin, kg m^2
+    /// d(F, M)/d(a, al, w), (6 x 9), and dQ/d(a, al, w), (ndof x 9): columns a, al, w.
+    Eigen::Matrix<double, 6, 9> FM_k;
+    Eigen::Matrix<double, Eigen::Dynamic, 9> Q_k;
+    /// d(F, M)/d dd'' = (S1; H(d)), d(F, M)/d dd' and d(F, M)/dd, (6 x ndof each).
+    Eigen::Matrix<double, 6, Eigen::Dynamic> FM_ddd, FM_dd, FM_d;
+  };
+  ForceJacobians inertial_force_jacobians(const Eigen::Vector3d& a, const Eigen::Vector3d& al,
+                                          const Eigen::Vector3d& w, const Eigen::VectorXd& d,
+                                          const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const;
+
  private:
   FloatingFrameInertia() = default;
   void check(const Eigen::VectorXd& d, const char* name) const;
-  // Rows g_ij = d E_ij / dd contracted as tr(g) x - g x, with g_ij = [C-part] + z^T (M_ij + M_ij^T).
-  Matrix3X contract_inertia(const Eigen::VectorXd& z, bool with_C, const Eigen::Vector3d& x) const;
+  using Products = std::array<Eigen::VectorXd, 9>;
+  // M_k z for k = 3 i + j (sparse, or dense for a projected body).
+  Products products(const Eigen::VectorXd& z) const;
+  // Rows g_ij = dE_ij/dd = [C_(ij) + C_(ji)] + (M_ij z + M_ji z)^T (z = d; without C: the rate
+  // part, z = dd), from the products P = M_k z, contracted with x as tr(g) x - g x.
+  Matrix3X contract_inertia(const Products& P, bool with_C, const Eigen::Vector3d& x) const;
+  // d(H(d) y)/dd from the products P = M_k y: row i = (M_jk y - M_kj y)^T, (i, j, k) cyclic.
+  static Matrix3X coupling_jacobian(const Products& P);
   double m_ = 0;
   Eigen::Vector3d S0_;
   Eigen::Matrix3d E0_;
   Matrix3X S1_;
   Eigen::Matrix<double, 9, Eigen::Dynamic> C_;
-  std::array<SparseMatrix, 9> Mij_;  // index 3 i + j
+  // The nine int rho N_i^T N_j (index 3 i + j): sparse on the mesh's pattern, or dense r x r in
+  // a Ritz basis (projected(); every entry is then nonzero).
+  std::array<SparseMatrix, 9> Mij_;
+  std::array<Eigen::MatrixXd, 9> Mij_dense_;
+  bool dense_ = false;
   SparseMatrix M_;
 };
 

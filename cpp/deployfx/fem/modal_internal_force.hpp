@@ -10,6 +10,7 @@
 // recovered exactly (to round-off) from symmetric pairs T(+x), T(-x): the odd part of T is A, the
 // even part K + B/2. Linear strain keeps K only.
 #include <Eigen/Core>
+#include <mutex>
 
 #include "deployfx/fem/shell_model.hpp"
 
@@ -31,12 +32,31 @@ class ModalInternalForce {
   double strain_energy(const Eigen::VectorXd& eta) const;
 
  private:
-  // A(eta) and B(eta) as (r x r) matrices.
+  // A(eta) and B(eta) as (r x r) matrices; the last eta's are kept (Newton evaluates the
+  // residual and then, for a fresh matrix, the tangent at the same eta: one product, not two).
   void polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A, Eigen::MatrixXd* B) const;
+  // The upper triangle of a symmetric (r x r) matrix given column-major, as a vector of its
+  // r (r + 1) / 2 pairs i <= j in the order (0,0), (0,1), ..., (0,r-1), (1,1), ...
+  static Eigen::VectorXd pack(const Eigen::Ref<const Eigen::VectorXd>& vec_T, int r);
   bool green_ = false;
   Eigen::MatrixXd K_;
-  Eigen::MatrixXd A_;  // (r^2 x r): column k is vec(A_k)
-  Eigen::MatrixXd B_;  // (r^2 x r (r + 1) / 2): column of pair k <= l is vec(B_kl)
+  // The coefficients on the pairs i <= j (every A_k and B_kl is symmetric, as T is): A_ is
+  // (r (r + 1) / 2 x r), column k the packed A_k; B_ is (r (r + 1) / 2)^2, column p(k, l) the
+  // packed B_kl, and symmetric (B_kl(i, j) = d^4 U / d eta_i d eta_j d eta_k d eta_l): a
+  // product reads its upper triangle only, a quarter of the unpacked (r^2 x r (r + 1) / 2) array.
+  Eigen::MatrixXd A_;
+  Eigen::MatrixXd B_;
+  // The memo of polynomial(): a pure function's last value, shared by threads under its lock.
+  // A copy starts empty.
+  struct Memo {
+    Memo() = default;
+    Memo(const Memo&) {}
+    Memo& operator=(const Memo&) { return *this; }
+    std::mutex mutex;
+    Eigen::VectorXd eta;
+    Eigen::MatrixXd A, B;
+  };
+  mutable Memo memo_;
 };
 
 }  // namespace deployfx::fem

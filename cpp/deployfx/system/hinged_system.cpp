@@ -37,17 +37,6 @@ void SpinUpDriver::evaluate(double t, double* theta, double* rate, double* accel
   }
 }
 
-struct HingedSystem::Kin {
-  Eigen::Matrix3d R_WB = Eigen::Matrix3d::Identity(), R_BE, R_WE;
-  Eigen::Vector3d r_W = Eigen::Vector3d::Zero(), v_W = Eigen::Vector3d::Zero();
-  Eigen::Vector3d w_B = Eigen::Vector3d::Zero(), a_W = Eigen::Vector3d::Zero();
-  Eigen::Vector3d wd_B = Eigen::Vector3d::Zero();
-  Eigen::Vector3d V_B = Eigen::Vector3d::Zero(), a_B = Eigen::Vector3d::Zero();  // B's origin, B axes
-  double theta = 0, rate = 0, accel = 0;
-  Eigen::Vector3d V_E, w_E, a_E, al_E;  // E's origin velocity/acceleration and rates, E axes
-  Eigen::VectorXd d, dd, ddd;           // all dofs of the shell model
-};
-
 HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appendage)
     : base_(std::move(base)), hinge_(std::move(hinge)), app_(std::move(appendage)),
       ffi_(app_.model ? *app_.model : throw std::invalid_argument("appendage.model is missing")) {
@@ -262,123 +251,6 @@ Eigen::VectorXd HingedSystem::residual(const Eigen::VectorXd& q, const Eigen::Ve
   return r;
 }
 
-void HingedSystem::add_mass_matrix(const Kin& k, double c_a, integrate::BlockMatrix& S) const {
-  // M = Jr^T M_E Jr + base on the border, with Jr mapping the border accelerations to E's
-  // (a_E, al_E); the elastic rows of J are the identity (docs/engine-design.md).
-  const int nf = num_elastic(), nb = nv_ - nf;
-  const Eigen::Matrix3d R_EB = k.R_BE.transpose();
-  Eigen::Matrix<double, 6, Eigen::Dynamic> Jr = Eigen::MatrixXd::Zero(6, nb);
-  if (base_.free) {
-    Jr.block<3, 3>(0, 0) = R_EB * k.R_WB.transpose();
-    Jr.block<3, 3>(0, 3) = -R_EB * skew(hinge_.point_B);
-    Jr.block<3, 3>(3, 3) = R_EB;
-    Eigen::Matrix<double, 6, 6> Jb = Eigen::Matrix<double, 6, 6>::Identity();
-    Jb.topLeftCorner<3, 3>() = k.R_WB.transpose();
-    S.A.topLeftCorner<6, 6>() += c_a * Jb.transpose() * base_.inertia.spatial() * Jb;
-  }
-  if (iv_theta_ >= 0) Jr.block<3, 1>(3, iv_theta_) = R_EB * hinge_.axis_B;
-  Eigen::Matrix<double, 6, 6> ME = frame_rigid_.spatial();
-  if (flexible_) {
-    const Eigen::Vector3d s = ffi_.first_moment(k.d);
-    ME.topLeftCorner<3, 3>() += ffi_.mass() * Eigen::Matrix3d::Identity();
-    ME.block<3, 3>(0, 3) -= skew(s);
-    ME.block<3, 3>(3, 0) += skew(s);
-    ME.bottomRightCorner<3, 3>() += ffi_.inertia_tensor(k.d);
-  }
-  S.A += c_a * Jr.transpose() * ME * Jr;
-  if (nf) {
-    const auto H = ffi_.rotation_coupling(k.d);
-    Eigen::Matrix<double, 6, Eigen::Dynamic> Mre(6, nf);
-    for (int i = 0; i < nf; ++i) {
-      Mre.block<3, 1>(0, i) = ffi_.S1().col(free_[i]);
-      Mre.block<3, 1>(3, i) = H.col(free_[i]);
-    }
-    const Eigen::MatrixXd JtM = c_a * Jr.transpose() * Mre;
-    S.B += JtM;
-    S.C += JtM.transpose();
-  }
-}
-
-integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                                      const Eigen::VectorXd& a, double t, double c_a,
-                                                      double c_v, double c_q) const {
-  const Kin k = kinematics(q, v, &a, t);
-  const int nf = num_elastic(), nb = nv_ - nf;
-  integrate::BlockMatrix S;
-  S.A = Eigen::MatrixXd::Zero(nb, nb);
-  S.B = Eigen::MatrixXd::Zero(nb, nf);
-  S.C = Eigen::MatrixXd::Zero(nf, nb);
-  add_mass_matrix(k, c_a, S);  // border blocks; the elastic block's L_c is added below
-  // Border columns (base and hinge coordinates, at most 7): central differences of the inertial
-  // residual; the elastic internal force does not depend on them.
-  for (int j = 0; j < nb; ++j) {
-    const double hv = 1e-7 * std::max(1.0, std::abs(v(j))), hq = 1e-7;
-    Eigen::VectorXd vp = v, vm = v;
-    vp(j) += hv;
-    vm(j) -= hv;
-    const Eigen::VectorXd e = Eigen::VectorXd::Unit(nv_, j);
-    const Eigen::VectorXd col =
-        c_v * (inertial_residual(kinematics(q, vp, &a, t), q) - inertial_residual(kinematics(q, vm, &a, t), q)) / (2 * hv) +
-        c_q * (inertial_residual(kinematics(retract(q, hq * e), v, &a, t), q) -
-               inertial_residual(kinematics(retract(q, -hq * e), v, &a, t), q)) / (2 * hq);
-    S.A.col(j) += col.head(nb);
-    S.C.col(j) += col.tail(nf);
-  }
-  if (iv_d_ < 0) {
-    S.E.resize(0, 0);
-    return S;
-  }
-  // Elastic columns, analytic (docs/engine-design.md): the d- and d'-derivatives of the body-level
-  // forces (F, M, Q), projected on the rows as in inertial_residual().
-  const Eigen::Vector3d& w = k.w_E;
-  const Eigen::Matrix3d W = skew(w);
-  const auto& S1 = ffi_.S1();
-  const auto Dw = ffi_.inertia_tensor_jacobian(k.d, w);
-  const auto Hd = ffi_.rotation_coupling(k.d);
-  const Eigen::MatrixXd dF_ddd = 2 * W * S1;
-  const Eigen::MatrixXd dM_ddd = Dw + W * Hd;
-  const Eigen::MatrixXd dF_dd = (skew(k.al_E) + W * W) * S1;
-  const Eigen::MatrixXd dM_dd = -skew(k.a_E) * S1 + ffi_.inertia_tensor_jacobian(k.d, k.al_E) +
-                                ffi_.rotation_coupling_jacobian(k.ddd) + W * Dw +
-                                ffi_.inertia_rate_jacobian(k.dd, w) +
-                                W * ffi_.rotation_coupling_jacobian(k.dd);
-  // Elastic block: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) + G_w(w) + K_T), with
-  // G_y(x) = sum_i x_j M_ik - x_k M_ij (i, j, k cyclic) and G_w(w) = sum w_i w_l M_il - |w|^2 M_ii.
-  Eigen::VectorXd vals = c_a * M_vals_;
-  const Eigen::Vector3d x = 2 * c_v * w + c_q * k.al_E;
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, l = (i + 2) % 3;
-    vals += x(j) * Mij_vals_[3 * i + l] - x(l) * Mij_vals_[3 * i + j];
-    for (int m = 0; m < 3; ++m)
-      vals += c_q * (w(i) * w(m) - (i == m ? w.squaredNorm() : 0.0)) * Mij_vals_[3 * i + m];
-  }
-  if (modal_ && green_) {
-    Eigen::MatrixXd T;  // dense, column-major: the block's value order
-    modal_->evaluate(k.d, nullptr, &T);
-    vals += (c_q + c_v * app_.beta_K) * Eigen::Map<const Eigen::VectorXd>(T.data(), T.size());
-  } else if (app_.fidelity == Fidelity::kNonlinear) {
-    Eigen::SparseMatrix<double> KT;
-    app_.model->internal_force(k.d, nullptr, &KT);  // K_L + K_L* + K_s, Eq. 19, 22, 23
-    block_->add(KT, c_q + c_v * app_.beta_K, vals);  // and the damping beta_K K_T (its d-derivative dropped)
-  } else {
-    vals += (c_q + c_v * app_.beta_K) * K_vals_;
-  }
-  vals += c_v * app_.alpha_M * M_vals_;  // Rayleigh damping
-  S.E = block_->with_values(vals);
-  const Eigen::MatrixXd FB = k.R_BE * (c_v * dF_ddd + c_q * dF_dd);  // (3 x ndof)
-  const Eigen::MatrixXd MB = k.R_BE * (c_v * dM_ddd + c_q * dM_dd);
-  for (int c = 0; c < nf; ++c) {
-    const int e = free_[c];
-    const Eigen::Vector3d Fe = FB.col(e), Me = MB.col(e);
-    if (base_.free) {
-      S.B.block<3, 1>(0, c) += k.R_WB * Fe;
-      S.B.block<3, 1>(3, c) += hinge_.point_B.cross(Fe) + Me;
-    }
-    if (iv_theta_ >= 0) S.B(iv_theta_, c) += hinge_.axis_B.dot(Me);
-  }
-  return S;
-}
-
 Eigen::Matrix<double, 6, 1> HingedSystem::frame_momentum(const Kin& k) const {
   Eigen::Matrix<double, 6, 1> p = frame_rigid_.momentum(k.V_E, k.w_E);
   if (!flexible_) return p;
@@ -406,34 +278,6 @@ Eigen::VectorXd HingedSystem::momentum(const Eigen::VectorXd& q, const Eigen::Ve
   Eigen::VectorXd Pi(6);
   Pi << m.P_W, m.H_W;
   return Pi;
-}
-
-Eigen::MatrixXd HingedSystem::momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                                double c_v, double c_q) const {
-  const int nf = num_elastic(), nb = nv_ - nf;
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6, nv_);
-  // Border columns: Pi is linear in v (a unit central difference is exact); q by differences.
-  for (int j = 0; j < nb; ++j) {
-    const Eigen::VectorXd e = Eigen::VectorXd::Unit(nv_, j);
-    J.col(j) = c_v * 0.5 * (momentum(q, v + e) - momentum(q, v - e)) +
-               c_q * (momentum(retract(q, 1e-7 * e), v) - momentum(retract(q, -1e-7 * e), v)) / 2e-7;
-  }
-  if (!nf) return J;
-  const Kin k = kinematics(q, v, nullptr, 0.0);
-  const Eigen::Vector3d r_O = k.r_W + k.R_WB * hinge_.point_B;
-  const auto& S1 = ffi_.S1();
-  // d(p_E, h_E)/d(dd) = (S1, H(d)); d(p_E, h_E)/dd = (w~ S1, -V~ S1 + dJ w/dd + dH dd'/dd).
-  const Eigen::MatrixXd dp = c_v * S1 + c_q * skew(k.w_E) * S1;
-  const Eigen::MatrixXd dh = c_v * ffi_.rotation_coupling(k.d) +
-                             c_q * (-skew(k.V_E) * S1 + ffi_.inertia_tensor_jacobian(k.d, k.w_E) +
-                                    ffi_.rotation_coupling_jacobian(k.dd));
-  const Eigen::MatrixXd dP_W = k.R_WE * dp;
-  const Eigen::MatrixXd dH_W = skew(r_O) * dP_W + k.R_WE * dh;
-  for (int c = 0; c < nf; ++c) {
-    J.block<3, 1>(0, nb + c) = dP_W.col(free_[c]);
-    J.block<3, 1>(3, nb + c) = dH_W.col(free_[c]);
-  }
-  return J;
 }
 
 Eigen::VectorXd HingedSystem::gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double) const {

@@ -10,7 +10,8 @@
 // B's origin is the base's reference point (its centroid, say; the centre of mass may be offset,
 // e.g. by a yoke fixed to the base). theta is the hinge travel from the stowed position (rad); a
 // driven hinge has no coordinate: theta(t) is prescribed. The border of the Newton matrix is the
-// rigid block [base, theta]; the elastic block is sparse.
+// rigid block [base, theta]; the elastic block is sparse. The Newton matrix and the momentum
+// Jacobian are analytic (hinged_system_jacobians.cpp).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
@@ -125,7 +126,17 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   Outputs outputs(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const;
 
  private:
-  struct Kin;  // kinematics at one instant
+  // Kinematics at one instant.
+  struct Kin {
+    Eigen::Matrix3d R_WB = Eigen::Matrix3d::Identity(), R_BE, R_WE;
+    Eigen::Vector3d r_W = Eigen::Vector3d::Zero(), v_W = Eigen::Vector3d::Zero();
+    Eigen::Vector3d w_B = Eigen::Vector3d::Zero(), a_W = Eigen::Vector3d::Zero();
+    Eigen::Vector3d wd_B = Eigen::Vector3d::Zero();
+    Eigen::Vector3d V_B = Eigen::Vector3d::Zero(), a_B = Eigen::Vector3d::Zero();  // B's origin, B axes
+    double theta = 0, rate = 0, accel = 0;
+    Eigen::Vector3d V_E, w_E, a_E, al_E;  // E's origin velocity/acceleration and rates, E axes
+    Eigen::VectorXd d, dd, ddd;           // all dofs of the shell model
+  };
   Kin kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd* a,
                  double t) const;
   Eigen::VectorXd full(const Eigen::VectorXd& d_free) const;
@@ -135,7 +146,14 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   Eigen::Matrix<double, 6, 1> frame_momentum(const Kin& k) const;
   struct Momenta { Eigen::Vector3d P_W, H_W, H_base_W, P_base_W; };
   Momenta momenta(const Kin& k) const;
-  void add_mass_matrix(const Kin& k, double c_a, integrate::BlockMatrix& S) const;
+  // The Newton matrix's and the momentum Jacobian's analytic pieces (hinged_system_jacobians.cpp).
+  // (V_E, w_E) = Jr v_border and (a_E, al_E) = Jr a_border + (terms in v), (6 x nb).
+  Eigen::Matrix<double, 6, Eigen::Dynamic> frame_velocity_map(const Kin& k) const;
+  // c_a d/da + c_v d/dv + c_q d/dq (along retract()) of E's motion (a_E, al_E, w_E), (9 x nb).
+  Eigen::Matrix<double, 9, Eigen::Dynamic> frame_motion_jacobian(const Kin& k, double c_a, double c_v,
+                                                                 double c_q) const;
+  // The lock torque's c_q d/dtheta + c_v d/dtheta' (central differences of a scalar law).
+  double lock_stiffness(const Kin& k, double c_v, double c_q) const;
 
   BaseSpec base_;
   HingeSpec hinge_;
