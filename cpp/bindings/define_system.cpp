@@ -2,7 +2,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <chrono>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -13,6 +12,7 @@
 #include "deployfx/integrate/trajectory.hpp"
 #include "deployfx/joint/hinge_lock.hpp"
 #include "deployfx/system/hinged_system.hpp"
+#include "run_loop.hpp"
 #include "trajectory_dict.hpp"
 
 namespace py = pybind11;
@@ -170,48 +170,13 @@ void define_system(py::module_& m) {
            double t_end, double dt, const AlphaParameters& p, bool reuse_jacobian, double tolerance,
            const py::object& progress) {
           check_sizes(sys, q0, v0);
-          deployfx::integrate::Trajectory tr;
           std::vector<HingedSystem::Outputs> out;
           long factorizations = 0;
-          // Every 0.2 s of wall time the loop takes the GIL to answer Ctrl-C and report progress
-          // (progress(t, t_end)); either one stops the run, keeping what was computed.
-          auto last = std::chrono::steady_clock::now();
-          std::string stopped;
-          auto observe = [&](const deployfx::integrate::AlphaState& s) {
-            out.push_back(sys.outputs(s.q, s.v, s.t));
-            const auto now = std::chrono::steady_clock::now();
-            if (now - last < std::chrono::milliseconds(200)) return true;
-            last = now;
-            py::gil_scoped_acquire acquire;
-            if (PyErr_CheckSignals() != 0) {
-              PyErr_Clear();
-              stopped = "interrupted (Ctrl-C)";
-              return false;
-            }
-            if (!progress.is_none()) {
-              try {
-                progress(s.t, t_end);
-              } catch (py::error_already_set& e) {
-                stopped = std::string("the progress callback raised: ") + e.what();
-                return false;
-              }
-            }
-            return true;
-          };
-          {
-            py::gil_scoped_release release;
-            const std::lock_guard<std::mutex> one_run_at_a_time(sys.run_mutex());
-            deployfx::integrate::NewtonOptions newton;
-            newton.reuse_jacobian = reuse_jacobian;
-            const deployfx::integrate::GeneralizedAlpha integrator(sys, p, newton);
-            sys.reset_history();
-            deployfx::integrate::StepControl control;
-            control.tolerance = tolerance;
-            tr = deployfx::integrate::run(
-                integrator, integrator.initial_state(0.0, q0, v0), t_end, dt, control, observe);
-            factorizations = integrator.factorizations();
-          }
-          if (!stopped.empty()) tr.failure = stopped + " at t = " + std::to_string(tr.t.back()) + " s";
+          const RunOptions opt{t_end, dt, p, reuse_jacobian, tolerance};
+          const auto tr = run_released(
+              sys, q0, v0, opt, progress,
+              [&](const deployfx::integrate::AlphaState& s) { out.push_back(sys.outputs(s.q, s.v, s.t)); },
+              &factorizations);
           const Eigen::Index n = static_cast<Eigen::Index>(out.size());
           Eigen::MatrixXd P(n, 3), H(n, 3), Hb(n, 3), Pb(n, 3), scalars(n, 7);
           for (Eigen::Index k = 0; k < n; ++k) {

@@ -3,8 +3,7 @@
 // integrate/trajectory.hpp, the GIL released, the system's run lock held, and every 0.2 s of wall
 // time the GIL taken to answer Ctrl-C and call progress(t, t_end); either one stops the run,
 // keeping what was computed (the trajectory's `failure` says why and when). `record(state)` is
-// called at each recorded instant (without the GIL). (define_system.cpp's simulate_hinged has
-// the same loop inline; it can move onto this helper.)
+// called at each recorded instant (without the GIL). Used by simulate_hinged and simulate_chain.
 #include <pybind11/pybind11.h>
 
 #include <chrono>
