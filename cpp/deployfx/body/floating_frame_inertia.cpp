@@ -228,16 +228,9 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling_jacobian(
   return coupling_jacobian(products(y));
 }
 
-FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
-    const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
-    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {
-  check(d, "d");
-  check(dd, "dd");
-  check(ddd, "ddd");
-  // Every d-dependent integral below is built from the 18 products M_ij d and M_ij dd, formed
-  // once (M_ij^T = M_ji); the formulas are those of inertia_tensor(), rotation_coupling(),
-  // inertia_tensor_rate(), centrifugal_stiffness() and gyroscopic().
-  const Products Pd = products(d), Pdd = products(dd);
+FloatingFrameInertia::StateIntegrals FloatingFrameInertia::state_integrals(
+    const Eigen::Vector3d& w, const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Products& Pd,
+    const Products& Pdd) const {
   const Eigen::Matrix<double, 9, 1> cd = C_ * d, cdd = C_ * dd;
   Eigen::Matrix3d E = E0_, Edot;
   for (int i = 0; i < 3; ++i)
@@ -247,22 +240,43 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
       Edot(i, j) = cdd(ij) + cdd(ji) + dd.dot(Pd[ij]) + d.dot(Pdd[ij]);
     }
   const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d J = E.trace() * I3 - E, Jdot = Edot.trace() * I3 - Edot;
-  Matrix3X H(3, num_dofs());
-  Eigen::VectorXd Gd = Eigen::VectorXd::Zero(num_dofs()), Gdd = Eigen::VectorXd::Zero(num_dofs());
+  StateIntegrals g;
+  g.s = S0_ + S1_ * d;
+  g.J = E.trace() * I3 - E;
+  g.Jdot = Edot.trace() * I3 - Edot;
+  g.H.resize(3, num_dofs());
+  g.Gd = Eigen::VectorXd::Zero(num_dofs());
+  g.Gdd = Eigen::VectorXd::Zero(num_dofs());
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
-    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
-    Gdd += w(j) * Pdd[3 * i + k] - w(k) * Pdd[3 * i + j];  // G_y(w) dd
-    for (int l = 0; l < 3; ++l) Gd += (w(i) * w(l) - (i == l ? w.squaredNorm() : 0.0)) * Pd[3 * i + l];
+    g.H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
+    g.Gdd += w(j) * Pdd[3 * i + k] - w(k) * Pdd[3 * i + j];  // G_y(w) dd
+    for (int l = 0; l < 3; ++l) g.Gd += (w(i) * w(l) - (i == l ? w.squaredNorm() : 0.0)) * Pd[3 * i + l];
   }
-  const Eigen::Vector3d s = S0_ + S1_ * d;
-  const Eigen::Vector3d S1dd = S1_ * dd, Hdd = H * dd;
+  return g;
+}
+
+FloatingFrameInertia::InertialForces FloatingFrameInertia::forces(
+    const StateIntegrals& g, const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
+    const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {
+  const Eigen::Vector3d S1dd = S1_ * dd, Hdd = g.H * dd;
   InertialForces f;
-  f.F = m_ * a + al.cross(s) + S1_ * ddd + w.cross(w.cross(s)) + 2.0 * w.cross(S1dd);
-  f.M = s.cross(a) + J * al + H * ddd + w.cross(J * w) + Jdot * w + w.cross(Hdd);
-  f.Q = S1_.transpose() * a + H.transpose() * al + M_ * ddd + centrifugal_load(w) + Gd + 2.0 * Gdd;
+  f.F = m_ * a + al.cross(g.s) + S1_ * ddd + w.cross(w.cross(g.s)) + 2.0 * w.cross(S1dd);
+  f.M = g.s.cross(a) + g.J * al + g.H * ddd + w.cross(g.J * w) + g.Jdot * w + w.cross(Hdd);
+  f.Q = S1_.transpose() * a + g.H.transpose() * al + M_ * ddd + centrifugal_load(w) + g.Gd + 2.0 * g.Gdd;
   return f;
+}
+
+FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
+    const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
+    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {
+  check(d, "d");
+  check(dd, "dd");
+  check(ddd, "ddd");
+  // Every d-dependent integral is built from the 18 products M_ij d and M_ij dd, formed once
+  // (M_ij^T = M_ji).
+  const Products Pd = products(d), Pdd = products(dd);
+  return forces(state_integrals(w, d, dd, Pd, Pdd), a, al, w, dd, ddd);
 }
 
 FloatingFrameInertia::ForceJacobians FloatingFrameInertia::inertial_force_jacobians(
@@ -273,34 +287,17 @@ FloatingFrameInertia::ForceJacobians FloatingFrameInertia::inertial_force_jacobi
   check(ddd, "ddd");
   const int n = num_dofs();
   const Products Pd = products(d), Pdd = products(dd), Pddd = products(ddd);
-  // The integrals at d and their rates, as in inertial_forces().
-  const Eigen::Matrix<double, 9, 1> cd = C_ * d, cdd = C_ * dd;
-  Eigen::Matrix3d E = E0_, Edot;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      const int ij = 3 * i + j, ji = 3 * j + i;
-      E(i, j) += cd(ij) + cd(ji) + d.dot(Pd[ij]);
-      Edot(i, j) = cdd(ij) + cdd(ji) + dd.dot(Pd[ij]) + d.dot(Pdd[ij]);
-    }
-  const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
+  const StateIntegrals g = state_integrals(w, d, dd, Pd, Pdd);
   ForceJacobians out;
-  out.J = E.trace() * I3 - E;
-  const Eigen::Matrix3d Jdot = Edot.trace() * I3 - Edot;
-  const Eigen::Matrix3d& J = out.J;
-  Matrix3X H(3, n);
-  Eigen::VectorXd Gd = Eigen::VectorXd::Zero(n), Gdd = Eigen::VectorXd::Zero(n);
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
-    Gdd += w(j) * Pdd[3 * i + k] - w(k) * Pdd[3 * i + j];
-    for (int l = 0; l < 3; ++l) Gd += (w(i) * w(l) - (i == l ? w.squaredNorm() : 0.0)) * Pd[3 * i + l];
-  }
-  out.s = S0_ + S1_ * d;
-  const Eigen::Vector3d& s = out.s;
+  out.f = forces(g, a, al, w, dd, ddd);
+  out.s = g.s;
+  out.J = g.J;
+  const Eigen::Vector3d& s = g.s;
+  const Eigen::Matrix3d& J = g.J;
+  const Eigen::Matrix3d& Jdot = g.Jdot;
+  const Matrix3X& H = g.H;
+  const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
   const Eigen::Vector3d S1dd = S1_ * dd, Hdd = H * dd, Jw = J * w;
-  out.f.F = m_ * a + al.cross(s) + S1_ * ddd + w.cross(w.cross(s)) + 2.0 * w.cross(S1dd);
-  out.f.M = s.cross(a) + J * al + H * ddd + w.cross(Jw) + Jdot * w + w.cross(Hdd);
-  out.f.Q = S1_.transpose() * a + H.transpose() * al + M_ * ddd + centrifugal_load(w) + Gd + 2.0 * Gdd;
 
   // d(F, M)/d(a, al, w): F = m a - s~ al + w x (w x s) + 2 w x (S1 dd') + ...,
   // M = s~ a + J al + w x (J w) + Jdot w + w x (H dd') + ...; d(w x (w x s))/dw = (w.s) I + w s^T - 2 s w^T.

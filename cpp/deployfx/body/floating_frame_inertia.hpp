@@ -109,6 +109,20 @@ class FloatingFrameInertia {
   Matrix3X contract_inertia(const Products& P, bool with_C, const Eigen::Vector3d& x) const;
   // d(H(d) y)/dd from the products P = M_k y: row i = (M_jk y - M_kj y)^T, (i, j, k) cyclic.
   static Matrix3X coupling_jacobian(const Products& P);
+  // The integrals at (d, dd') that the inertial forces need, from the products Pd = M_k d and
+  // Pdd = M_k dd' (formulas of inertia_tensor(), rotation_coupling(), inertia_tensor_rate(),
+  // centrifugal_stiffness() and gyroscopic()), and the forces they give.
+  struct StateIntegrals {
+    Eigen::Vector3d s;           // s(d)
+    Eigen::Matrix3d J, Jdot;     // J(d), its rate
+    Matrix3X H;                  // H(d)
+    Eigen::VectorXd Gd, Gdd;     // G_w(w) d, G_y(w) dd'
+  };
+  StateIntegrals state_integrals(const Eigen::Vector3d& w, const Eigen::VectorXd& d,
+                                 const Eigen::VectorXd& dd, const Products& Pd, const Products& Pdd) const;
+  InertialForces forces(const StateIntegrals& g, const Eigen::Vector3d& a, const Eigen::Vector3d& al,
+                        const Eigen::Vector3d& w, const Eigen::VectorXd& dd,
+                        const Eigen::VectorXd& ddd) const;
   double m_ = 0;
   Eigen::Vector3d S0_;
   Eigen::Matrix3d E0_;

@@ -1,6 +1,6 @@
 #pragma once
-// The base frame B of a multibody system, shared by the systems that carry one (hinge_chain; and
-// the same conventions as hinged_system, which may move onto these helpers):
+// The base frame B of a multibody system, shared by the systems that carry one (hinged_system,
+// hinge_chain):
 //   q = [r_W (3), unit quaternion of R_WB (w, x, y, z)] ...,  v = [v_W (3, W axes), w_B (3, B axes)] ...
 // A fixed base has no coordinates: it rests at W's origin with R_WB = I. The attitude is updated
 // by a body-frame rotation vector, R_WB exp(dpsi) (Bruls & Cardona, J. Comput. Nonlinear Dyn. 5,

@@ -1,6 +1,6 @@
 #include "deployfx/system/hinged_system.hpp"
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -8,21 +8,9 @@
 
 #include "deployfx/fem/constrained_solve.hpp"
 #include "deployfx/math/check.hpp"
-#include "deployfx/math/so3.hpp"
+#include "deployfx/system/base_frame.hpp"
 
 namespace deployfx::system {
-namespace {
-
-// A rigid body's inertia about its centre of mass: symmetric and positive (semi)definite.
-void check_inertia(const std::string& name, const Eigen::Matrix3d& J, bool definite) {
-  const bool symmetric = J.allFinite() && (J - J.transpose()).norm() <= 1e-12 * std::max(1.0, J.norm());
-  const Eigen::Vector3d lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(J).eigenvalues();
-  if (!symmetric || !(definite ? lambda.minCoeff() > 0 : lambda.minCoeff() >= -1e-12 * J.norm()))
-    throw std::invalid_argument(name + " must be symmetric positive " +
-                                (definite ? "definite" : "semidefinite") + " (kg m^2)");
-}
-
-}  // namespace
 
 void SpinUpDriver::evaluate(double t, double* theta, double* rate, double* accel) const {
   const double w = 2 * M_PI / t_s;
@@ -40,15 +28,8 @@ void SpinUpDriver::evaluate(double t, double* theta, double* rate, double* accel
 HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appendage)
     : base_(std::move(base)), hinge_(std::move(hinge)), app_(std::move(appendage)),
       ffi_(app_.model ? *app_.model : throw std::invalid_argument("appendage.model is missing")) {
-  if (base_.free) {
-    require_positive("base.mass", base_.inertia.mass, "(kg)");
-    check_inertia("base.inertia", base_.inertia.inertia_com, true);
-    if (!base_.inertia.com.allFinite()) throw std::invalid_argument("base.com must be finite (m)");
-  }
-  if (!(hinge_.fitting.mass >= 0 && std::isfinite(hinge_.fitting.mass)))
-    throw_out_of_range("hinge.fitting_mass", hinge_.fitting.mass, ">= 0 (kg)");
-  check_inertia("hinge.fitting_inertia", hinge_.fitting.inertia_com, false);
-  if (!hinge_.fitting.com.allFinite()) throw std::invalid_argument("hinge.fitting_com must be finite (m)");
+  if (base_.free) check_rigid_inertia("base", base_.inertia, true);
+  check_rigid_inertia("hinge.fitting", hinge_.fitting, false);
   if (!(std::abs(hinge_.axis_B.norm() - 1.0) < 1e-9))
     throw std::invalid_argument("hinge.axis must be a unit vector");
   require_finite("hinge.tau0", hinge_.tau0, "(N m)");
@@ -135,17 +116,7 @@ Eigen::VectorXd HingedSystem::initial_positions() const {
 }
 
 Eigen::VectorXd HingedSystem::retract(const Eigen::VectorXd& q, const Eigen::VectorXd& dq) const {
-  Eigen::VectorXd out = q;
-  int iq = 0, iv = 0;
-  if (base_.free) {
-    out.head<3>() += dq.head<3>();
-    const Eigen::Quaterniond Q(q(3), q(4), q(5), q(6));
-    const Eigen::Quaterniond Q1 = (Q * quaternion_exp(dq.segment<3>(3))).normalized();  // body frame
-    out.segment<4>(3) << Q1.w(), Q1.x(), Q1.y(), Q1.z();
-    iq = 7, iv = 6;
-  }
-  out.tail(nq_ - iq) += dq.tail(nv_ - iv);
-  return out;
+  return retract_with_base(base_.free, q, dq);
 }
 
 HingedSystem::Kin HingedSystem::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
