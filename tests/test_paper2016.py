@@ -195,7 +195,7 @@ def test_second_order_convergence_in_dt():
     assert 3.0 < e[0] / e[1] < 5.0 and 3.0 < e[1] / e[2] < 5.0
 
 
-def test_a_run_can_be_stopped_and_keeps_its_results():
+def test_a_run_can_be_stopped_and_keeps_its_results(capsys):
     # Long loops answer the caller every 0.2 s of wall time (progress, Ctrl-C); a progress
     # callback that raises stops the run with the series computed so far.
     scene = scenes.paper2016(2, "rigid", nx=2, ny=1)
@@ -211,9 +211,13 @@ def test_a_run_can_be_stopped_and_keeps_its_results():
     assert len(calls) == 1
     assert "progress callback raised" in raw["failure"] and "enough" in raw["failure"]
     assert 0.0 < raw["t"][-1] < 1000.0 and len(raw["t"]) == len(raw["theta"])
-    # With a bar (tqdm on stderr) the result is the same as without.
+    # With a bar (tqdm on stderr, ending at the time reached) the result is the same as without,
+    # and without one nothing is written.
+    capsys.readouterr()
     a = scene.simulate(1.0, 0.01, progress=True)
+    assert "1.00/1.00 s" in capsys.readouterr().err
     b = scene.simulate(1.0, 0.01, progress=False)
+    assert capsys.readouterr().err == ""
     np.testing.assert_array_equal(a.deployment_angle, b.deployment_angle)
 
 

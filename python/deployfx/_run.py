@@ -3,7 +3,8 @@ and the progress bar, shared by :class:`deployfx.Model` and :class:`deployfx.cha
 from __future__ import annotations
 
 import sys
-from typing import Optional
+import time
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -93,6 +94,21 @@ def _progress_bar(t_end: float, progress: Optional[bool]) -> Optional[_Bar]:
     from tqdm.auto import tqdm
 
     return _Bar(tqdm, t_end)
+
+
+def _timed_run(run: Callable, t_end: float, progress: Optional[bool]) -> tuple:
+    """``(run(progress=callback or None), wall time in s)``, with the progress bar of
+    :func:`_progress_bar` fed by the engine's ``progress(t, t_end)`` callback and closed after."""
+    bar = _progress_bar(t_end, progress)
+    start = time.perf_counter()
+    try:
+        raw = run(progress=None if bar is None else bar.update_to)
+        if bar is not None:  # the engine reports every 0.2 s of wall time: show where it ended
+            bar.update_to(float(raw["t"][-1]), t_end)
+    finally:
+        if bar is not None:
+            bar.close()
+    return raw, time.perf_counter() - start
 
 
 def _scheme_name(scheme) -> str:

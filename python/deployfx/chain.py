@@ -10,7 +10,6 @@ the hinge's fitting and the parts on that body (parallel axes). SI units.
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 from typing import Optional
 
@@ -20,7 +19,7 @@ from scipy.spatial.transform import Rotation
 from . import _core
 from .integrators import GeneralizedAlpha
 from .results import Result
-from ._run import _progress_bar, _run_arguments, _run_result
+from ._run import _run_arguments, _run_result, _timed_run
 from .scene import RigidPart, _lock_spec
 
 #: Units of the series of :meth:`ChainModel.simulate` ((n, N): one column per hinge).
@@ -70,15 +69,8 @@ class ChainModel:
         t_end, dt, tol, scheme = _run_arguments(t_end, dt, scheme, tolerance)
         q0 = self.system.initial_positions() if q0 is None else _state("q0", q0, self.system.num_positions)
         v0 = np.zeros(self.system.num_velocities) if v0 is None else _state("v0", v0, self.system.num_velocities)
-        bar = _progress_bar(t_end, progress)
-        start = time.perf_counter()
-        try:
-            raw = _core.simulate_chain(self.system, q0, v0, t_end, dt, scheme._params(), tolerance=tol,
-                                       progress=None if bar is None else bar.update_to)
-        finally:
-            if bar is not None:
-                bar.close()
-        wall = time.perf_counter() - start
+        raw, wall = _timed_run(lambda progress: _core.simulate_chain(
+            self.system, q0, v0, t_end, dt, scheme._params(), tolerance=tol, progress=progress), t_end, progress)
         meta = dict(self.description)
         meta.update(metadata or {})
         meta.update(model="rigid chain", hinges=self.num_hinges)

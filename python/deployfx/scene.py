@@ -19,7 +19,6 @@ R_PE0_k`` in the parent's); it compiles into a :class:`~deployfx.chain.ChainMode
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 from typing import Callable, Optional, Sequence
 
@@ -28,7 +27,7 @@ import numpy as np
 from . import _core
 from ._checks import as_float, as_int
 from .contact import ContactLaw, Friction
-from ._run import ENERGY_GROWTH_LIMIT, _run_arguments, _run_result  # noqa: F401 (ENERGY_GROWTH_LIMIT: public here)
+from ._run import ENERGY_GROWTH_LIMIT, _run_arguments, _run_result, _timed_run  # noqa: F401 (ENERGY_GROWTH_LIMIT: public here)
 from .integrators import GeneralizedAlpha
 from .plate import ShellModel
 from .results import Result
@@ -169,9 +168,8 @@ class Model:
         t_end, dt, tol, scheme = _run_arguments(t_end, dt, scheme, tolerance)
         q0 = self.system.initial_positions()
         v0 = np.zeros(self.system.num_velocities)
-        start = time.perf_counter()
-        raw = _core.simulate_hinged(self.system, q0, v0, t_end, dt, scheme._params(), tolerance=tol)
-        wall = time.perf_counter() - start
+        raw, wall = _timed_run(lambda progress: _core.simulate_hinged(
+            self.system, q0, v0, t_end, dt, scheme._params(), tolerance=tol, progress=progress), t_end, progress)
         if series:
             out = series(self, raw)
         else:
