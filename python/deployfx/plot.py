@@ -22,7 +22,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
-from .animation import animate
+from .animation import animate  # noqa: F401 (public as deployfx.plot.animate)
 from .results import PathLike, Result
 
 Results = Union[Result, Sequence[Result]]
