@@ -111,6 +111,16 @@ def _timed_run(run: Callable, t_end: float, progress: Optional[bool]) -> tuple:
     return raw, time.perf_counter() - start
 
 
+def base_attitude_deg(q: np.ndarray, base_free: bool) -> np.ndarray:
+    """The base's attitude (deg, (n, 3)): the rotation vector of R_WB from the quaternion
+    (w, x, y, z) in q[:, 3:7] of a free base; zeros for a fixed base (it has no coordinates)."""
+    if not base_free:
+        return np.zeros((len(q), 3))
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_quat(q[:, [4, 5, 6, 3]]).as_rotvec(degrees=True)
+
+
 def _scheme_name(scheme) -> str:
     if isinstance(scheme, Newmark):
         return f"Newmark(beta={scheme.beta}, gamma={scheme.gamma})"

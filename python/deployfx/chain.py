@@ -14,12 +14,11 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from . import _core
+from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg
 from .integrators import GeneralizedAlpha
 from .results import Result
-from ._run import _run_arguments, _run_result, _timed_run
 from .scene import RigidPart, _lock_spec
 
 #: Units of the series of :meth:`ChainModel.simulate` ((n, N): one column per hinge).
@@ -79,10 +78,7 @@ class ChainModel:
 
     def _series(self, raw: dict) -> dict:
         q = raw["q"]
-        if self.base_free:
-            attitude = Rotation.from_quat(q[:, [4, 5, 6, 3]]).as_rotvec(degrees=True)
-        else:
-            attitude = np.zeros((len(q), 3))
+        attitude = base_attitude_deg(q, self.base_free)
         return {
             "t": raw["t"],
             "deployment_angle": np.degrees(raw["theta"]),

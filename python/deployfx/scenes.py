@@ -14,9 +14,9 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from . import paper2016 as _paper
+from ._run import base_attitude_deg
 from .contact import ContactLaw, Friction
 from .integrators import GeneralizedAlpha, SimulationError
 from .materials import Isotropic, Laminate, Ply
@@ -105,10 +105,7 @@ class Paper2016Scene:
 
     def _series(self, model: Model, raw: dict) -> dict:
         q = raw["q"]
-        if model.base_free:
-            attitude = Rotation.from_quat(q[:, [4, 5, 6, 3]]).as_rotvec(degrees=True)
-        else:
-            attitude = np.zeros((len(q), 3))
+        attitude = base_attitude_deg(q, model.base_free)
         return {
             "t": raw["t"],
             "deployment_angle": 90.0 + np.degrees(raw["theta"]),
