@@ -149,6 +149,8 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``deployfx`` command's parser: subcommands ``appendage`` and ``run`` (see the module
+    docstring); the parsed namespace's ``run`` is the function that executes the subcommand."""
     p = argparse.ArgumentParser(prog="deployfx", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
     a = sub.add_parser("appendage", help="modes of the paper's laminated appendage")
@@ -181,6 +183,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Run the ``deployfx`` command on ``argv`` (None: ``sys.argv[1:]``) and return its exit
+    status: 0 on success, 1 if a run stopped early (what it computed is still reported and
+    written), 2 for a bad parameter (ValueError, TypeError or RuntimeError; the message goes to
+    standard error). A malformed command line exits with status 2 from argparse."""
     args = build_parser().parse_args(argv)
     try:
         return args.run(args)

@@ -141,6 +141,7 @@ class Laminate:
 
     @property
     def plies(self) -> tuple:
+        """The :class:`Ply` objects, bottom (z = -h/2) first."""
         return self._plies
 
     @property

@@ -71,6 +71,7 @@ class ShellModel:
 
     @property
     def num_dofs(self) -> int:
+        """Number of dofs, ndof = 6 n (six per node, world axes)."""
         return self._impl.num_dofs
 
     @property

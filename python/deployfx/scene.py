@@ -61,6 +61,9 @@ class RigidPart:
 
     @staticmethod
     def make(name: str, mass: float, com, inertia) -> "RigidPart":
+        """A checked part: mass (kg, >= 0), centre of mass (m, 3) and inertia about it (kg m^2,
+        3 x 3 symmetric positive semidefinite, or a scalar times identity); TypeError or
+        ValueError naming ``<name>.mass``, ``<name>.com`` or ``<name>.inertia`` otherwise."""
         m = as_float(f"{name}.mass", mass)
         if not (np.isfinite(m) and m >= 0):
             raise ValueError(f"{name}.mass = {m} is out of range: must be >= 0 (kg)")
