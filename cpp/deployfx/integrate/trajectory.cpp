@@ -10,6 +10,11 @@ namespace {
 constexpr int kMaxHalvings = 10;
 constexpr int kMaxLocateIterations = 60;
 constexpr double kLocateTolerance = 1e-9;  // of the step, on the bracket's width
+// The shortest step an event search takes, s. Below it a step's velocity update h gamma a nears
+// the round-off of v, and the momentum rows (Pi_n+1 - Pi_n) / (h gamma c) turn that round-off
+// into residual noise of order eps |v| / h that Newton cannot remove (at 1e-11 s: 1e-5 of the
+// accelerations, the Newton floor). An event is located to this width at best.
+constexpr double kMinEventStep = 1e-8;
 constexpr double kEventTolerance = 1e-9;   // on G, the events normalised by their start values
 
 // Advances s by h, halving on Newton failure; returns the Newton iterations spent. On failure
@@ -73,12 +78,15 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
   const double t0 = s.t;
   const bool adaptive = control.tolerance > 0;
   const auto& p = integrator.parameters();
+  const double snap = std::max(std::min(kMinEventStep, 1e-3 * h), 1e-12 * std::max(1.0, std::abs(t_end)));
   double h_try = adaptive ? std::min(h, control.initial_step > 0 ? control.initial_step : 0.1 * h) : h;
   for (long k = 1; k <= steps; ++k) {
     const double target = k == steps ? t_end : t0 + k * h;  // no round-off drift in output times
     int iterations = 0;
     try {
-      while (target - s.t > 1e-12 * std::max(1.0, std::abs(target))) {
+      // An event closer than `snap` to the output time ends the interval: the step left would be
+      // shorter than an event search may take (the state is then recorded up to `snap` early).
+      while (target - s.t > snap) {
         const double h_k = adaptive ? std::min(h_try, target - s.t) : target - s.t;
         AlphaState trial = s;
         iterations += advance(integrator, trial, h_k, 0, &tr.substeps);
@@ -110,13 +118,18 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
         double lo = 0, hi = h_k, G_lo = 1.0, G_hi = G1, w_lo = G_lo, w_hi = G_hi;
         AlphaState best = std::move(trial);
         int side = 0, clipped = 0;
-        for (int n = 0; n < kMaxLocateIterations && G_hi < -kEventTolerance && hi - lo > kLocateTolerance * h; ++n) {
+        const double width = std::max(kLocateTolerance * h, kMinEventStep);
+        for (int n = 0; n < kMaxLocateIterations && G_hi < -kEventTolerance && hi - lo > width; ++n) {
           double mid = hi - w_hi * (hi - lo) / (w_hi - w_lo);
           const double guard = 0.05 * (hi - lo);
           if (!(mid > lo + guard && mid < hi - guard)) ++clipped;
           mid = clipped >= 2 ? 0.5 * (lo + hi) : std::min(std::max(mid, lo + guard), hi - guard);
           AlphaState m = s;
-          iterations += advance(integrator, m, mid, 0, &tr.substeps);
+          try {
+            iterations += advance(integrator, m, mid, 0, &tr.substeps);
+          } catch (const StepFailure&) {
+            break;  // a search step Newton cannot take: the event is at the bracket's end hi
+          }
           const double G = first_switch(g0, sys.gaps(m.q, m.v, m.t));
           if (G > 0) {
             lo = mid, G_lo = w_lo = G;
@@ -132,7 +145,7 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
         sys.accept(s.q, s.v, s.t);
         ++tr.events;
         ++tr.steps;
-        if (target - s.t > 1e-12 * std::max(1.0, std::abs(target))) {
+        if (target - s.t > snap) {
           tr.newton_iterations.push_back(iterations);
           iterations = 0;
           record();

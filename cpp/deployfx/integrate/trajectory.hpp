@@ -6,7 +6,9 @@
 //   (SecondOrderSystem::gaps: a gap while a contact is open, its force while closed) from > 0 to
 //   <= 0, the step is redone with the size found by safeguarded secant iteration (Illinois), so
 //   it ends at the switch; that instant is recorded too. No impact is missed or tunnels
-//   through, whatever dt.
+//   through, whatever dt. A search never steps below 1e-8 s (where the velocity update nears
+//   round-off and Newton cannot converge): switches are located to that width at best, and one
+//   closer than that to an output time ends the output step.
 #include <Eigen/Core>
 #include <functional>
 #include <string>
