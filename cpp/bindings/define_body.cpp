@@ -12,7 +12,9 @@ void define_body(py::module_& m) {
       .def_readonly("M", &FloatingFrameInertia::InertialForces::M)
       .def_readonly("Q", &FloatingFrameInertia::InertialForces::Q);
 
-  py::class_<FloatingFrameInertia>(m, "FloatingFrameInertia")
+  py::class_<FloatingFrameInertia>(m, "FloatingFrameInertia",
+                                   "Inertia shape integrals of a mesh in its floating frame (You et al. 2016, "
+                                   "Eq. 9 and 28; SI units) and the inertial forces they give.")
       .def(py::init<const deployfx::fem::ShellModel&>(), py::arg("model"))
       .def_property_readonly("mass", &FloatingFrameInertia::mass)
       .def_property_readonly("S0", &FloatingFrameInertia::S0)

@@ -69,7 +69,9 @@ void define_chain(py::module_& m) {
       .def_readonly("axis", &ChainHingeSpec::axis_P)
       .def_readonly("R_PC0", &ChainHingeSpec::R_PC0);
 
-  py::class_<HingeChain>(m, "HingeChain")
+  py::class_<HingeChain>(m, "HingeChain",
+                         "The compiled chain of rigid bodies on spring hinges: q = a free base's position "
+                         "(m) and unit quaternion (w, x, y, z), then the hinge angles (rad).")
       .def(py::init([](bool base_free, double base_mass, const Eigen::Matrix3d& base_inertia,
                        const Eigen::Vector3d& base_com, std::vector<ChainHingeSpec> hinges) {
              BaseSpec b{base_free, {base_mass, base_com, base_inertia}};

@@ -59,7 +59,10 @@ void define_system(py::module_& m) {
       .def_readonly("pin_radius", &HingeLockSpec::pin_radius)
       .def_readonly("clearance", &HingeLockSpec::clearance);
 
-  py::class_<HingedSystem>(m, "HingedSystem")
+  py::class_<HingedSystem>(m, "HingedSystem",
+                           "The compiled one-hinge system (base, hinge, appendage, lock): q = a free "
+                           "base's position (m) and unit quaternion (w, x, y, z), the hinge angle (rad), "
+                           "the elastic dofs (m, rad) or modal coordinates.")
       .def(py::init([](bool base_free, double base_mass, const Eigen::Matrix3d& base_inertia,
                        const Eigen::Vector3d& hinge_point, const Eigen::Vector3d& hinge_axis,
                        const Eigen::Matrix3d& R_BE0, double tau0, double k_theta, double c_theta,
