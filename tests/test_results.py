@@ -158,6 +158,30 @@ def test_a_late_impact_above_one_percent_of_the_peak_delays_settling():
     assert metrics.lock_settling_time(t, angle, small) == pytest.approx(t_angle, abs=1e-5)
 
 
+def test_a_pin_resting_anywhere_in_its_play_is_settled():
+    # A latched pin drifting unloaded from the stop (180 deg) to the latch (180 deg - play) is at
+    # rest in its groove: Result.summary's angle band is the lock's play (metadata lock_play_deg)
+    # when wider than 0.1 deg. Closed forms: the drift 180 - (play / 2)(1 - cos(pi t / T)) enters
+    # the 0.1 deg band of its end value at t = (T / pi) acos(0.2 / play - 1); the impact at 5 s
+    # falls below 1 % of its peak at a + w - (w / pi) asin(0.01), as above.
+    T = 30.0
+    t = grid(T, 1e-3)
+    play = np.degrees(0.2e-3 / 0.03)  # the paper scene's 0.2 mm at a 30 mm pin radius
+    angle = 180.0 - 0.5 * play * (1.0 - np.cos(np.pi * t / T))
+    a, w = 5.0, 0.5
+    f = half_sines(t, (a,), w, (3e4,))
+    expected = a + w - (w / np.pi) * math.asin(0.01)
+    series = {"t": t, "deployment_angle": angle, "lock_force": f}
+    drift = T / np.pi * math.acos(0.2 / play - 1.0)
+    assert Result(series).summary()["settling_time_s"] == pytest.approx(drift, abs=1e-4)
+    settled = Result(series, metadata={"lock_play_deg": play}).summary()["settling_time_s"]
+    assert settled == pytest.approx(expected, abs=1e-5)
+    # a chain: one play per hinge, None for a hinge without a lock
+    chain = {"t": t, "deployment_angle": np.c_[angle, angle], "lock_force": np.c_[f, f]}
+    per_hinge = Result(chain, metadata={"lock_play_deg": [play, None]}).summary()["settling_time_s"]
+    assert per_hinge == [pytest.approx(expected, abs=1e-5), pytest.approx(drift, abs=1e-4)]
+
+
 # ---------------------------------------------------------------- deflection, attitude, momentum
 
 

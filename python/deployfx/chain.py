@@ -19,7 +19,7 @@ from . import _core
 from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg
 from .integrators import GeneralizedAlpha
 from .results import Result
-from .scene import RigidPart, _lock_spec
+from .scene import RigidPart, _lock_play_deg, _lock_spec
 
 #: Units of the series of :meth:`ChainModel.simulate` ((n, N): one column per hinge).
 SERIES_UNITS = {
@@ -45,6 +45,8 @@ class ChainModel:
     #: Per hinge: ``point`` (m), unit ``axis`` and ``R_PE0`` in the parent's frame, and the body's
     #: ``mass`` (kg), ``com`` (m, E_k) and ``inertia`` (kg m^2 about the com, E_k axes).
     hinges: tuple = field(default=(), repr=False)
+    #: Per hinge: its lock's free play once latched, deg (clearance / pin radius); None: no lock.
+    lock_play_deg: tuple = ()
 
     def simulate(self, t_end: float, dt: float, scheme=GeneralizedAlpha(0.8), tolerance: Optional[float] = None,
                  progress: Optional[bool] = None, metadata: Optional[dict] = None,
@@ -72,7 +74,7 @@ class ChainModel:
             self.system, q0, v0, t_end, dt, scheme._params(), tolerance=tol, progress=progress), t_end, progress)
         meta = dict(self.description)
         meta.update(metadata or {})
-        meta.update(model="rigid chain", hinges=self.num_hinges)
+        meta.update(model="rigid chain", hinges=self.num_hinges, lock_play_deg=list(self.lock_play_deg))
         return _run_result(raw, self._series(raw), dict(SERIES_UNITS), meta, scheme, dt, t_end, tolerance,
                            wall, conservative=True)
 
@@ -151,4 +153,5 @@ def compile_chain(base: tuple, base_parts: list, links: list, description: Optio
                               base_com=body.com, hinges=specs)
     return ChainModel(system=system, num_hinges=len(specs), base_free=free,
                       locks=tuple(link["lock"] is not None for link in links),
-                      description=dict(description or {}), hinges=tuple(geometry))
+                      description=dict(description or {}), hinges=tuple(geometry),
+                      lock_play_deg=tuple(_lock_play_deg(link["lock"]) for link in links))

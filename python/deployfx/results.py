@@ -209,8 +209,10 @@ class Result:
         - ``impacts``: number of separate contacts in ``lock_force`` (chatter shorter than 0.05 s
           merged, contacts below 1e-3 of the peak dropped).
         - ``peak_lock_force_N`` (N): max of ``lock_force``.
-        - ``settling_time_s`` (s): ``deployment_angle`` within 0.1 deg of its final value and
-          ``lock_force`` within 1 % of its peak of its final value from then on, for at least 1 s.
+        - ``settling_time_s`` (s): ``deployment_angle`` within 0.1 deg of its final value, or
+          within the lock's free play if wider (metadata ``lock_play_deg``: a latched pin may rest
+          anywhere in its groove), and ``lock_force`` within 1 % of its peak of its final value
+          from then on, for at least 1 s.
         - ``max_node_E_deflection_m`` (m): max |``node_E_deflection``|.
         - ``body_attitude_change_deg`` (deg): |``body_attitude``[-1] - ``body_attitude``[0]|.
         - ``momentum_drift``: max |H - H(0)| / max |H_b - H_b(0)| from ``total_angular_momentum``
@@ -230,7 +232,7 @@ class Result:
             out["impacts"] = _per_hinge(metrics.impact_count, t, force)
             out["peak_lock_force_N"] = _per_hinge(metrics.peak_lock_force, None, force)
         if angle is not None:
-            out["settling_time_s"] = _per_hinge(metrics.lock_settling_time, t, angle, force)
+            out["settling_time_s"] = self._settling_time(t, angle, force)
         if "node_E_deflection" in s:
             out["max_node_E_deflection_m"] = metrics.max_abs(s["node_E_deflection"],
                                                              "node_E_deflection")
@@ -242,6 +244,25 @@ class Result:
         out["steps"] = self._metadata.get("steps")
         out["wall_time_s"] = self._metadata.get("wall_time_s")
         return out
+
+
+    def _settling_time(self, t, angle, force):
+        """metrics.lock_settling_time per hinge, its angle band widened to the lock's play."""
+        play = self._metadata.get("lock_play_deg")
+        if angle.ndim == 1:
+            return metrics.lock_settling_time(t, angle, force, angle_tol=_angle_band(play))
+        plays = play if isinstance(play, (list, tuple)) else [play] * angle.shape[1]
+        return [metrics.lock_settling_time(t, angle[:, k], None if force is None else force[:, k],
+                                           angle_tol=_angle_band(plays[k]))
+                for k in range(angle.shape[1])]
+
+
+#: deg: the settling band of a deployment angle (Result.summary), unless the lock's play is wider.
+SETTLING_ANGLE_TOL_DEG = 0.1
+
+
+def _angle_band(play_deg) -> float:
+    return max(SETTLING_ANGLE_TOL_DEG, float(play_deg)) if play_deg is not None else SETTLING_ANGLE_TOL_DEG
 
 
 def load(path: PathLike) -> Result:

@@ -102,6 +102,9 @@ class Model:
     #: No driver: nothing in the scene can add energy (springs, contact and damping only store or
     #: dissipate it), so energy growth is a numerical failure and ``simulate`` reports it.
     conservative: bool = True
+    #: The lock's free play once latched, deg of hinge travel (clearance / pin radius); None
+    #: without a lock. The pin may rest anywhere in it: the settling band (Result.summary).
+    lock_play_deg: Optional[float] = None
 
     @property
     def reduced(self) -> bool:
@@ -181,7 +184,7 @@ class Model:
             out["node_displacements"] = self.node_displacements(raw["q"])
         meta = dict(self.description)
         meta.update(metadata or {})
-        meta.update(model=self.fidelity)
+        meta.update(model=self.fidelity, lock_play_deg=self.lock_play_deg)
         if self.reduced:
             info = self.basis_info
             meta.update(modes=info["modes"], static_corrections=info["static_corrections"],
@@ -405,7 +408,7 @@ class Scene:
         return Model(system=system, shell=a["shell"], fidelity=a["fidelity"], base_free=free,
                      has_lock=lock is not None, fixed_dofs=a["fixed"], description=dict(description or {}),
                      hinge={k: h[k].copy() for k in ("point", "axis", "R_BE0")},
-                     conservative=h["spin_up"] is None)
+                     conservative=h["spin_up"] is None, lock_play_deg=_lock_play_deg(self._lock))
 
 
 def _new_link() -> dict:
@@ -427,6 +430,12 @@ def _hinge_dict(name: str, point, axis, R, R_name: str, tau0, k_theta, c_theta, 
     return dict(point=_vector(f"{name}.point", point), axis=axis, R_BE0=R,
                 tau0=as_float(f"{name}.tau0", tau0), k_theta=as_float(f"{name}.k_theta", k_theta),
                 c_theta=as_float(f"{name}.c_theta", c_theta), fitting=fitting)
+
+
+def _lock_play_deg(lock: Optional[dict]) -> Optional[float]:
+    """The lock's free play once latched, in degrees of hinge travel (clearance / pin radius);
+    None without a lock."""
+    return None if lock is None else float(np.degrees(lock["clearance"] / lock["pin_radius"]))
 
 
 def _lock_spec(lock: Optional[dict]):
