@@ -245,7 +245,6 @@ class Result:
         out["wall_time_s"] = self._metadata.get("wall_time_s")
         return out
 
-
     def _settling_time(self, t, angle, force):
         """metrics.lock_settling_time per hinge, its angle band widened to the lock's play."""
         play = self._metadata.get("lock_play_deg")
