@@ -123,3 +123,220 @@ def test_mp4_needs_ffmpeg(run, tmp_path):
     else:
         with pytest.raises(RuntimeError, match="ffmpeg"):
             animate(paper, r, tmp_path / "deploy.mp4", frames=3)
+
+
+# ------------------------------------------------------------------------------------------------
+# Chains of hinges (ChainModel): a yoke and two rigid panels, placed in world coordinates.
+
+L_PANEL, W_PANEL = 1.0, 0.4  # m
+
+
+def Ry(a):
+    """Rotation by ``a`` (rad) about y."""
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def Rx(a):
+    """Rotation by ``a`` (rad) about x."""
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def _panel():
+    """A 1 m x 0.4 m aluminium panel, nodes (x, y, 0) in E, x in [0, 1], y in [-0.2, 0.2]: its
+    root edge x = 0 lies on E's y axis."""
+    lam = dfx.Laminate([dfx.Ply(dfx.Isotropic(E=70e9, nu=0.33, rho=2700.0), 2e-3)])
+    plate = dfx.Plate(L_PANEL, W_PANEL, lam, nx=3, ny=2)
+    nodes = plate.model.nodes.copy()
+    nodes[:, 1] -= W_PANEL / 2
+    return dfx.ShellModel(nodes, plate.model.quads, lam), plate.fixed_dofs("CFFF")
+
+
+def _chain(free: bool):
+    """Yoke on hinge 0 (about B's y), panel A on hinge 1 (about E0's z, R_PE0 = Rx(90 deg), which
+    does not commute with the hinge rotation; A's root edge, E1's y, lies on that axis: Rx(90)^T z
+    = y), panel B on hinge 2 at A's far edge (about E1's y, folded back: Ry(180 deg))."""
+    shell, root = _panel()
+    scene = (Scene().set_base(200.0, 30.0, free=free)
+             .add_hinge("base", point=(0.5, 0, 0), axis=(0, 1, 0), R_PE0=Ry(-np.pi / 2), tau0=1.0,
+                        fitting_inertia=0.01)
+             .add_rigid_part(2.0, np.diag([0.01, 0.1, 0.1]), (0.3, 0, 0), body=0)
+             .add_hinge(0, point=(0.6, 0, 0), axis=(0, 0, 1), R_PE0=Rx(np.pi / 2), tau0=0.5,
+                        fitting_inertia=0.01)
+             .set_appendage(shell, root, "rigid")
+             .add_hinge(1, point=(L_PANEL, 0, 0), axis=(0, 1, 0), R_PE0=Ry(np.pi), tau0=0.5,
+                        fitting_inertia=0.01)
+             .set_appendage(shell, root, "rigid"))
+    return scene.compile(), shell
+
+
+THETAS = np.array([[0.0, 0.0, 0.0], [0.3, -0.7, 1.1], [1.2, 0.4, -2.0], [np.pi / 2, np.pi / 3, 3.0]])
+
+
+def _chain_result(model, thetas=THETAS, base=None):
+    """A Result with prescribed q: the hinge angles (rad) and, for a free base, ``base`` = the
+    7 base coordinates [r_W, quaternion (w, x, y, z)] (identity pose by default)."""
+    q = np.asarray(thetas, dtype=float)
+    if model.base_free:
+        b = np.r_[0, 0, 0, 1.0, 0, 0, 0] if base is None else np.asarray(base, dtype=float)
+        q = np.hstack([np.tile(b, (len(q), 1)), q])
+    return dfx.Result({"t": np.arange(len(q), dtype=float), "q": q})
+
+
+def test_chain_keeps_its_panels_shells():
+    model, shell = _chain(free=False)
+    assert isinstance(model, dfx.ChainModel)
+    assert model.shells[0] is None and model.shells[1] is shell and model.shells[2] is shell
+    assert len(model.shells) == model.num_hinges == 3
+
+
+def test_chain_stowed_geometry_by_hand():
+    model, shell = _chain(free=False)
+    r = _chain_result(model, np.zeros((1, 3)))
+    x, y = shell.nodes[:, 0], shell.nodes[:, 1]
+    # E0 = (0.5, 0, 0), Ry(-90); E1 = E0 + Ry(-90) (0.6, 0, 0) = (0.5, 0, 0.6), axes Ry(-90) Rx(90)
+    # = [[0,-1,0],[0,0,-1],[1,0,0]]; E2 = E1 + (0, 0, L), axes E1's Ry(180).
+    A = np.column_stack([0.5 - y, 0 * x, 0.6 + x])
+    B = np.column_stack([0.5 - y, 0 * x, 0.6 + L_PANEL - x])
+    np.testing.assert_allclose(world_points(model, r, hinge=1)[0], A, atol=1e-12)
+    np.testing.assert_allclose(world_points(model, r, hinge=2)[0], B, atol=1e-12)
+
+
+def test_chain_frames_match_the_core_kinematics():
+    """body_frames (composed in Python) against HingeChain.frames (the C++ forward pass)."""
+    c = np.cos(np.pi / 6)
+    for free in (False, True):
+        model, _ = _chain(free)
+        r = _chain_result(model, base=[0.3, -1.0, 2.0, c, 0.2, -0.3, np.sin(np.pi / 6)])
+        R_WE, o_W = animation.body_frames(model, r)
+        q = r["q"]
+        if free:  # the core takes unit quaternions
+            q = q.copy()
+            q[:, 3:7] /= np.linalg.norm(q[:, 3:7], axis=1, keepdims=True)
+        for i in range(len(q)):
+            R, o = model.system.frames(q[i])
+            np.testing.assert_allclose(o_W[i], o.T, atol=1e-12)
+            for k in range(3):
+                np.testing.assert_allclose(R_WE[i, k], R[:, 3 * k:3 * k + 3], atol=1e-12)
+
+
+def test_chain_root_edges_lie_on_their_hinge_axes():
+    model, shell = _chain(free=False)
+    r = _chain_result(model)
+    root = np.flatnonzero(np.isclose(shell.nodes[:, 0], 0.0))
+    assert root.size == 3
+    axes = [np.array(h) for h in ((0, 1, 0), (0, 0, 1), (0, 1, 0))]
+    for i, q in enumerate(r["q"]):
+        R, o = model.system.frames(q)
+        for k in (1, 2):
+            # Hinge k's axis in W: through E_k's origin, along the parent E_{k-1}'s axis_k.
+            d = R[:, 3 * (k - 1):3 * k] @ axes[k]
+            rel = world_points(model, r, hinge=k)[i, root] - o[:, k]
+            np.testing.assert_allclose(np.linalg.norm(np.cross(rel, d), axis=1), 0.0, atol=1e-12)
+            # ... and the far nodes are not on it (the check can fail).
+            far = world_points(model, r, hinge=k)[i] - o[:, k]
+            assert np.linalg.norm(np.cross(far, d), axis=1).max() > 0.9 * L_PANEL
+
+
+def test_chain_free_base_pose_moves_everything_rigidly():
+    fixed, _ = _chain(free=False)
+    free, _ = _chain(free=True)
+    c = np.cos(np.pi / 4)
+    r_W, R_WB = np.array([1.0, 2.0, 3.0]), np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    rf = _chain_result(fixed)
+    rm = _chain_result(free, base=np.r_[r_W, c, 0, 0, c])   # 90 deg about z
+    np.testing.assert_allclose(animation.base_poses(free, rm)[1][0], R_WB, atol=1e-12)
+    for k in (1, 2):
+        expected = r_W + world_points(fixed, rf, hinge=k) @ R_WB.T
+        np.testing.assert_allclose(world_points(free, rm, hinge=k), expected, atol=1e-12)
+
+
+@pytest.fixture(scope="module")
+def chain_run():
+    model, _ = _chain(free=True)
+    return model, model.simulate(0.3, 0.01)
+
+
+def test_chain_run_moves_panels_rigidly(chain_run):
+    model, r = chain_run
+    assert np.ptp(r.theta, axis=0).min() > 1e-3                # every hinge moved
+    for k in (1, 2):
+        P = world_points(model, r, hinge=k)
+        X = model.shells[k].nodes
+        d0 = np.linalg.norm(X[:, None] - X[None], axis=2)
+        d = np.linalg.norm(P[:, :, None] - P[:, None], axis=3)
+        np.testing.assert_allclose(d, np.broadcast_to(d0, d.shape), atol=1e-12)
+        assert np.abs(P[-1] - P[0]).max() > 1e-3               # and it moved in W
+
+
+def test_chain_world_points_inputs(chain_run):
+    model, r = chain_run
+    with pytest.raises(ValueError, match="hinge is required"):
+        world_points(model, r)                                 # two panels: which?
+    with pytest.raises(ValueError, match="carries no panel"):
+        world_points(model, r, hinge=0)                        # the yoke
+    with pytest.raises(ValueError, match="out of range"):
+        world_points(model, r, hinge=3)
+    with pytest.raises(TypeError, match="ChainModel"):
+        animation.body_frames(scenes.paper2016(2, "rigid", nx=2, ny=1).model, r)
+    with pytest.raises(ValueError, match="hinge must be None"):
+        animate(model, r, "x.gif", hinge=1)
+
+
+def test_chain_gif_has_the_frames_asked_for(chain_run, tmp_path):
+    model, r = chain_run
+    path = dfx.plot.animate(model, r, tmp_path / "chain.gif", fps=10, frames=3, dpi=40, figsize=(4, 3.5))
+    with Image.open(path) as im:
+        assert im.format == "GIF"
+        assert im.n_frames == 3
+
+
+def test_chain_vtk_series_round_trips_world_points(chain_run, tmp_path):
+    import meshio  # in the test extras
+
+    from deployfx.export import write_vtk_series
+
+    model, r = chain_run
+    paths = write_vtk_series(r, None, tmp_path, name="array", every=10, model=model)
+    assert len(paths) == 4                                     # samples 0, 10, 20, 30
+    shell = model.shells[1]
+    n = shell.nodes.shape[0]
+    for path, k in zip(paths, range(0, len(r.t), 10)):
+        back = meshio.read(path)
+        expected = np.concatenate([world_points(model, r, hinge=1)[k], world_points(model, r, hinge=2)[k]])
+        np.testing.assert_array_equal(back.points, expected)
+        quads = back.cells_dict["quad"]
+        np.testing.assert_array_equal(quads, np.concatenate([shell.quads, np.asarray(shell.quads) + n]))
+        np.testing.assert_array_equal(back.cell_data_dict["hinge"]["quad"], np.repeat([1, 2], len(shell.quads)))
+    times = np.loadtxt(tmp_path / "array_times.csv", delimiter=",", skiprows=1)
+    np.testing.assert_allclose(times[:, 1], r.t[::10])
+    with pytest.raises(ValueError, match="frame"):
+        write_vtk_series(r, None, tmp_path, frame="appendage", model=model)
+    with pytest.raises(ValueError, match="shell must be None"):
+        write_vtk_series(r, shell, tmp_path, model=model)
+
+
+def test_one_hinge_vtk_series_in_world_coordinates(run, tmp_path):
+    import meshio
+
+    from deployfx.export import write_vtk_series
+
+    paper, r = run
+    k = 30
+    # Default unchanged: the appendage frame.
+    e = write_vtk_series(r, paper.model.shell, tmp_path / "E", every=k)
+    np.testing.assert_array_equal(meshio.read(e[1]).points, paper.model.shell.nodes + r.node_displacements[k])
+    w = write_vtk_series(r, None, tmp_path / "W", every=k, frame="world", model=paper)
+    back = meshio.read(w[1])
+    np.testing.assert_array_equal(back.points, world_points(paper, r)[k])
+    assert np.abs(back.points - meshio.read(e[1]).points).max() > 0.1   # a different frame
+    # The displacement in W's axes: rotated, so of the same length as in E, and not all zero.
+    u_E = r.node_displacements[k]
+    np.testing.assert_allclose(np.linalg.norm(back.point_data["displacement"], axis=1),
+                               np.linalg.norm(u_E, axis=1), rtol=1e-12, atol=1e-15)
+    assert np.abs(u_E).max() > 0
+    with pytest.raises(ValueError, match="needs model"):
+        write_vtk_series(r, paper.model.shell, tmp_path, frame="world")
+    with pytest.raises(ValueError, match="frame"):
+        write_vtk_series(r, paper.model.shell, tmp_path, frame="body")

@@ -11,6 +11,17 @@ its elastic displacement in E. They come from the raw ``q`` series that
 :meth:`Model.simulate <deployfx.scene.Model.simulate>` keeps by default (``q = [r_W, quaternion
 (w, x, y, z) of R_WB] [theta] [free elastic dofs]``) and the hinge geometry of the scene.
 
+A chain of hinges (:class:`~deployfx.chain.ChainModel`) places each rigid panel the same way,
+composing the hinge frames from the base out (:func:`body_frames`)::
+
+    R_WE_k = R_WP_k Rot(axis_k, theta_k) R_PE0_k,   o_W_k = o_W_P + R_WP_k point_k,
+    p_W = o_W_k + R_WE_k X_i
+
+with P_k the parent's frame (B for hinge 0: ``o_W_P = r_W``, ``R_WP = R_WB``; else E_{k-1}),
+``point_k``, ``axis_k`` and ``R_PE0_k`` hinge k's geometry in P_k (``ChainModel.hinges``) and
+``X_i`` the panel's nodes in E_k (``ChainModel.shells[k]``); ``q = [r_W, quaternion] [theta_0 ..
+theta_N-1]`` (base blocks for a free base only).
+
 Figures are built without pyplot (nothing is shown, no interactive backend is needed).
 """
 from __future__ import annotations
@@ -21,10 +32,19 @@ from typing import Any, Mapping, Optional, Sequence
 import numpy as np
 
 from ._checks import as_float
+from .chain import ChainModel
 from .results import PathLike, Result
 from .scene import Model, Scene
 
-__all__ = ["animate", "base_poses", "hinge_geometry", "world_points"]
+__all__ = ["animate", "base_poses", "body_frames", "hinge_geometry", "world_points"]
+
+
+def _chain_of(model: Any) -> Optional[ChainModel]:
+    """The ChainModel ``model`` is (or holds as ``.model``), else None."""
+    if isinstance(model, ChainModel):
+        return model
+    inner = getattr(model, "model", None)
+    return inner if isinstance(inner, ChainModel) else None
 
 
 def _model_of(model: Any) -> Model:
@@ -94,7 +114,7 @@ def _quaternion_matrix(Q: np.ndarray) -> np.ndarray:
         np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], -2)
 
 
-def _q_series(model: Model, result: Result) -> np.ndarray:
+def _q_series(model: Any, result: Result) -> np.ndarray:
     if not isinstance(result, Result):
         raise TypeError(f"result must be a deployfx.Result, got {type(result).__name__}")
     if "q" not in result:
@@ -110,8 +130,9 @@ def _q_series(model: Model, result: Result) -> np.ndarray:
 
 def base_poses(model: Any, result: Result) -> tuple[np.ndarray, np.ndarray]:
     """The base's position ``r_W`` (m, (n, 3)) and attitude ``R_WB`` ((n, 3, 3)) at each output
-    time of ``result``; zero and identity for a fixed base."""
-    m = _model_of(model)
+    time of ``result``; zero and identity for a fixed base. ``model``: a :class:`Model`, a
+    :class:`~deployfx.chain.ChainModel` or a ready scene holding one as ``.model``."""
+    m = _chain_of(model) or _model_of(model)
     q = _q_series(m, result)
     if not m.base_free:
         return np.zeros((len(q), 3)), np.broadcast_to(np.eye(3), (len(q), 3, 3)).copy()
@@ -130,6 +151,56 @@ def _theta(model: Model, result: Result, q: np.ndarray) -> np.ndarray:
     return q[:, first]
 
 
+def body_frames(model: Any, result: Result) -> tuple[np.ndarray, np.ndarray]:
+    """A chain's hinge frames E_k in world coordinates at each output time of ``result`` (which
+    must hold the raw ``q``): their axes ``R_WE`` ((n, N, 3, 3), column j = E_k's axis j in W)
+    and origins ``o_W`` (m, (n, N, 3), on hinge k's axis), composed from the base out as in the
+    module docstring. ``model``: the :class:`~deployfx.chain.ChainModel` that made ``result`` (or
+    a ready scene holding one as ``.model``)."""
+    chain = _chain_of(model)
+    if chain is None:
+        raise TypeError(f"model must be a deployfx.ChainModel (a chain of hinges), got {type(model).__name__}")
+    q = _q_series(chain, result)
+    first = 7 if chain.base_free else 0
+    o_P, R_WP = base_poses(chain, result)
+    n, N = len(q), chain.num_hinges
+    R_WE, o_W = np.empty((n, N, 3, 3)), np.empty((n, N, 3))
+    for k, h in enumerate(chain.hinges):
+        axis = np.asarray(h["axis"], dtype=float)
+        R_PE = _rotation_about(axis / np.linalg.norm(axis), q[:, first + k]) @ np.asarray(h["R_PE0"], dtype=float)
+        o_W[:, k] = o_P + np.einsum("kij,j->ki", R_WP, np.asarray(h["point"], dtype=float))
+        R_WE[:, k] = R_WP @ R_PE
+        o_P, R_WP = o_W[:, k], R_WE[:, k]
+    return R_WE, o_W
+
+
+def _panel_index(chain: ChainModel, hinge: Any) -> int:
+    """The hinge whose panel is meant: ``hinge`` (an index), or the only panel when None."""
+    panels = [k for k, s in enumerate(chain.shells) if s is not None]
+    if hinge is None:
+        if len(panels) != 1:
+            raise ValueError(f"hinge is required for a chain with {len(panels)} panels: pass the index of the "
+                             f"hinge whose panel to place (panels on hinges {panels})")
+        return panels[0]
+    if isinstance(hinge, bool) or not isinstance(hinge, (int, np.integer)):
+        raise TypeError(f"hinge must be a hinge index (int) for a chain, got {type(hinge).__name__}")
+    if not 0 <= hinge < chain.num_hinges:
+        raise ValueError(f"hinge = {hinge} is out of range: must be in [0, {chain.num_hinges - 1}]")
+    if chain.shells[hinge] is None:
+        raise ValueError(f"hinge = {hinge} carries no panel (set_appendage(..., hinge={hinge})); panels on "
+                         f"hinges {panels}")
+    return int(hinge)
+
+
+def _appendage_frames(m: Model, model: Any, result: Result, hinge: Any) -> tuple[np.ndarray, np.ndarray]:
+    """One hinge: E's origin ``o_W`` (m, (n, 3)) and axes ``R_WE`` ((n, 3, 3)) in W."""
+    point, axis, R0 = hinge_geometry(model, hinge)
+    q = _q_series(m, result)
+    theta = _theta(m, result, q)
+    r_W, R_WB = base_poses(m, result)
+    return r_W + np.einsum("kij,j->ki", R_WB, point), R_WB @ (_rotation_about(axis, theta) @ R0)
+
+
 def world_points(model: Any, result: Result, hinge: Any = None, scale: float = 1.0) -> np.ndarray:
     """The appendage's nodes in world coordinates (m), shape (len(t), nodes, 3), at each output
     time of ``result`` (which must hold the raw ``q`` series; see the module docstring).
@@ -137,22 +208,27 @@ def world_points(model: Any, result: Result, hinge: Any = None, scale: float = 1
     ``model``: the :class:`~deployfx.scene.Model` that made ``result`` (or a ready scene with a
     ``.model``); ``hinge``: see :func:`hinge_geometry`; ``scale``: magnification of the elastic
     displacements (1 = true shape; 0 = undeformed).
+
+    For a :class:`~deployfx.chain.ChainModel`: the rigid panel of hinge ``hinge`` (its index;
+    None: the chain's only panel), its mesh ``ChainModel.shells[hinge]`` placed with
+    :func:`body_frames` (``scale`` has nothing to magnify).
     """
-    m = _model_of(model)
-    if m.shell is None:
-        raise ValueError("model has no appendage mesh to place")
     scale = as_float("scale", scale)
     if not np.isfinite(scale):
         raise ValueError(f"scale = {scale} must be finite")
-    point, axis, R0 = hinge_geometry(model, hinge)
-    q = _q_series(m, result)
-    theta = _theta(m, result, q)
-    r_W, R_WB = base_poses(m, result)
-    # The nodes in E, (n, N, 3), then in B and in W.
-    X = np.asarray(m.shell.nodes, dtype=float)[None] + scale * m.node_displacements(q)
-    R_BE = _rotation_about(axis, theta) @ R0
-    p_B = point + np.einsum("kij,knj->kni", R_BE, X)
-    return r_W[:, None, :] + np.einsum("kij,knj->kni", R_WB, p_B)
+    chain = _chain_of(model)
+    if chain is not None:
+        k = _panel_index(chain, hinge)
+        R_WE, o_W = body_frames(chain, result)
+        X = np.asarray(chain.shells[k].nodes, dtype=float)
+        return o_W[:, k, None, :] + np.einsum("kij,nj->kni", R_WE[:, k], X)
+    m = _model_of(model)
+    if m.shell is None:
+        raise ValueError("model has no appendage mesh to place")
+    o_W, R_WE = _appendage_frames(m, model, result, hinge)
+    # The nodes in E, (n, N, 3), then in W.
+    X = np.asarray(m.shell.nodes, dtype=float)[None] + scale * m.node_displacements(_q_series(m, result))
+    return o_W[:, None, :] + np.einsum("kij,knj->kni", R_WE, X)
 
 
 # A cube's 12 edges as pairs of corner indices; corners are the sign patterns of (x, y, z).
@@ -189,6 +265,48 @@ def _distinct(idx: np.ndarray, n: int) -> np.ndarray:
     return idx
 
 
+def _one_hinge_picture(model: Any, result: Result, hinge: Any, scale: float) -> dict:
+    """What animate draws for a one-hinge Model: one mesh coloured by its elastic displacement."""
+    m = _model_of(model)
+    P = world_points(model, result, hinge, scale)          # checks model, result, hinge, scale
+    point, axis, _ = hinge_geometry(model, hinge)
+    q = _q_series(m, result)
+    r_W, R_WB = base_poses(m, result)
+    theta = _theta(m, result, q)
+    nodes = np.asarray(m.shell.nodes, dtype=float)
+    span = float(np.ptp(nodes, axis=0).max()) or 1.0
+    ends = point + 0.5 * span * np.array([-axis, axis])                             # hinge axis, B
+    hinges = r_W[:, None, :] + np.einsum("kij,nj->kni", R_WB, ends)                 # (n, 2, 3)
+    return dict(points=[P], quads=[np.asarray(m.shell.quads, dtype=int)],
+                disp=np.linalg.norm(m.node_displacements(q), axis=2), axes=hinges[:, None],
+                r_W=r_W, R_WB=R_WB, point=point, span=span,
+                label=lambda k: f"hinge travel {np.degrees(theta[k]):6.1f} deg")
+
+
+def _chain_picture(chain: ChainModel, result: Result, hinge: Any) -> dict:
+    """What animate draws for a chain: every rigid panel in its own colour, every hinge axis."""
+    if hinge is not None:
+        raise ValueError("hinge must be None for a chain: its hinges' geometry is in ChainModel.hinges")
+    R_WE, o_W = body_frames(chain, result)                  # checks result
+    r_W, R_WB = base_poses(chain, result)
+    panels = [k for k, s in enumerate(chain.shells) if s is not None]
+    nodes = [np.asarray(chain.shells[k].nodes, dtype=float) for k in panels]
+    span = max((float(np.ptp(X, axis=0).max()) for X in nodes), default=0.0) or 1.0
+    # Hinge k's axis in W: R_WP axis = R_WE R_PE0^T axis (Rot(axis, theta) keeps the axis).
+    axes = []
+    for k, h in enumerate(chain.hinges):
+        a = np.asarray(h["R_PE0"], dtype=float).T @ (np.asarray(h["axis"], dtype=float) / np.linalg.norm(h["axis"]))
+        a_W = np.einsum("kij,j->ki", R_WE[:, k], a)
+        axes.append(o_W[:, k, None, :] + 0.5 * span * np.stack([-a_W, a_W], axis=1))
+    q = _q_series(chain, result)
+    theta = q[:, 7 if chain.base_free else 0:]
+    return dict(points=[o_W[:, k, None, :] + np.einsum("kij,nj->kni", R_WE[:, k], X) for k, X in zip(panels, nodes)],
+                quads=[np.asarray(chain.shells[k].quads, dtype=int) for k in panels], disp=None,
+                axes=np.stack(axes, axis=1), r_W=r_W, R_WB=R_WB,
+                point=np.asarray(chain.hinges[0]["point"], dtype=float), span=span,
+                label=lambda k: "hinge travel " + ", ".join(f"{d:.1f}" for d in np.degrees(theta[k])) + " deg")
+
+
 def animate(model: Any, result: Result, path: PathLike, fps: float = 20.0,
             frames: Optional[int] = None, hinge: Any = None, scale: float = 1.0,
             base_size: Optional[float] = None, dpi: int = 100,
@@ -199,15 +317,18 @@ def animate(model: Any, result: Result, path: PathLike, fps: float = 20.0,
 
     Each frame shows, in world axes (m), the base as a wire cube with its pose, the hinge axis and
     the appendage's quads coloured by the magnitude of their elastic displacement (m), with the
-    time (s) and the hinge travel (deg).
+    time (s) and the hinge travel (deg). For a :class:`~deployfx.chain.ChainModel` (or a ready
+    scene holding one): every hinge axis and every rigid panel (each in its own colour) placed
+    with :func:`body_frames`, and each hinge's travel (deg); ``hinge`` must then be None.
 
     ``model``, ``result``, ``hinge``, ``scale``: as :func:`world_points` (``result`` must hold the
     raw ``q``: e.g. ``scene.model.simulate(t_end, dt)``). ``fps``: frames per second of the
     movie; ``frames``: how many (default: all samples, at most 200), at the samples nearest to
     evenly spaced times, so the movie lasts ``frames / fps`` s. ``base_size``: the cube's half
-    side (m; default 0.9 of the hinge point's largest coordinate, or 5 % of the appendage's span
-    if the hinge is at B's origin). ``dpi``, ``figsize`` (inches), ``elev``, ``azim`` (deg): the
-    picture and the view. Raises RuntimeError for ``.mp4`` when ffmpeg is not installed.
+    side (m; default 0.9 of the (first) hinge point's largest coordinate, or 5 % of the
+    appendage's span if the hinge is at B's origin). ``dpi``, ``figsize`` (inches), ``elev``,
+    ``azim`` (deg): the picture and the view. Raises RuntimeError for ``.mp4`` when ffmpeg is not
+    installed.
     """
     import matplotlib
     from matplotlib import cm, colors
@@ -229,30 +350,24 @@ def animate(model: Any, result: Result, path: PathLike, fps: float = 20.0,
         raise RuntimeError("writing .mp4 needs ffmpeg, which was not found: install it (Debian: "
                            "apt-get install ffmpeg) or write a .gif")
 
-    m = _model_of(model)
     t = np.asarray(result["t"] if isinstance(result, Result) else [], dtype=float)
-    P = world_points(model, result, hinge, scale)          # checks model, result, hinge, scale
+    chain = _chain_of(model)
+    pic = (_one_hinge_picture(model, result, hinge, scale) if chain is None
+           else _chain_picture(chain, result, hinge))
     idx = _frame_indices(t, frames)
-    point, axis, _ = hinge_geometry(model, hinge)
-    r_W, R_WB = base_poses(m, result)
-    theta = _theta(m, result, _q_series(m, result))
-    disp = np.linalg.norm(m.node_displacements(_q_series(m, result)[idx]), axis=2)  # (f, N)
-    quads = np.asarray(m.shell.quads, dtype=int)
+    r_W, R_WB, span = pic["r_W"], pic["R_WB"], pic["span"]
 
-    nodes = np.asarray(m.shell.nodes, dtype=float)
-    span = float(np.ptp(nodes, axis=0).max()) or 1.0
     if base_size is None:
-        base_size = 0.9 * float(np.abs(point).max()) or 0.05 * span
+        base_size = 0.9 * float(np.abs(pic["point"]).max()) or 0.05 * span
     base_size = float(base_size)
     if not (np.isfinite(base_size) and base_size >= 0):
         raise ValueError(f"base_size = {base_size} is out of range: must be >= 0 (m)")
-    cube = base_size * _CORNERS
-    cubes = r_W[idx, None, :] + np.einsum("kij,nj->kni", R_WB[idx], cube)          # (f, 8, 3)
-    ends = point + 0.5 * span * np.array([-axis, axis])                             # hinge axis, B
-    hinges = r_W[idx, None, :] + np.einsum("kij,nj->kni", R_WB[idx], ends)          # (f, 2, 3)
+    cubes = r_W[idx, None, :] + np.einsum("kij,nj->kni", R_WB[idx], base_size * _CORNERS)  # (f, 8, 3)
+    hinges = pic["axes"][idx]                                                            # (f, H, 2, 3)
+    meshes = [P[idx] for P in pic["points"]]                                             # (f, nodes, 3)
 
     # One cube of the scene's extent, so the axes' scales are equal and fixed.
-    pts = np.concatenate([P[idx].reshape(-1, 3), cubes.reshape(-1, 3), hinges.reshape(-1, 3)])
+    pts = np.concatenate([P.reshape(-1, 3) for P in meshes] + [cubes.reshape(-1, 3), hinges.reshape(-1, 3)])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     centre, half = (lo + hi) / 2, 0.55 * float((hi - lo).max() or 1.0)
 
@@ -266,25 +381,33 @@ def animate(model: Any, result: Result, path: PathLike, fps: float = 20.0,
     ax.set_box_aspect((1, 1, 1))
     if title:
         ax.set_title(title)
-    norm = colors.Normalize(0.0, float(disp.max()) or 1.0)
+    disp = None if pic["disp"] is None else pic["disp"][idx]                             # (f, nodes)
     cmap = matplotlib.colormaps["viridis"]
-    mesh = Poly3DCollection(P[idx[0]][quads], edgecolor="k", linewidth=0.3)
-    ax.add_collection3d(mesh)
+    if disp is not None:
+        norm = colors.Normalize(0.0, float(disp.max()) or 1.0)
+        fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.6,
+                     label="elastic displacement (m)")
+    polys = []
+    for j, (P, quads) in enumerate(zip(meshes, pic["quads"])):
+        face = {} if disp is not None else {"facecolor": f"C{j % 10}"}             # rigid panels
+        polys.append(Poly3DCollection(P[0][quads], edgecolor="k", linewidth=0.3, **face))
+        ax.add_collection3d(polys[-1])
     edges = [ax.plot(*cubes[0][list(e)].T, color="0.3", lw=1.0)[0] for e in _EDGES]
-    hinge_line = ax.plot(*hinges[0].T, color="tab:red", lw=1.5)[0]
-    fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.6,
-                 label="elastic displacement (m)")
+    hinge_lines = [ax.plot(*h.T, color="tab:red", lw=1.5)[0] for h in hinges[0]]
     label = fig.text(0.02, 0.97, "", va="top", family="monospace")
 
     writer = PillowWriter(fps=fps) if suffix == ".gif" else FFMpegWriter(fps=fps)
     path.parent.mkdir(parents=True, exist_ok=True)
     with writer.saving(fig, str(path), dpi):
         for f, k in enumerate(idx):
-            mesh.set_verts(P[k][quads])
-            mesh.set_facecolor(cmap(norm(disp[f][quads].mean(axis=1))))
+            for poly, P, quads in zip(polys, meshes, pic["quads"]):
+                poly.set_verts(P[f][quads])
+                if disp is not None:
+                    poly.set_facecolor(cmap(norm(disp[f][quads].mean(axis=1))))
             for line, e in zip(edges, _EDGES):
                 line.set_data_3d(*cubes[f][list(e)].T)
-            hinge_line.set_data_3d(*hinges[f].T)
-            label.set_text(f"t = {t[k]:7.3f} s   hinge travel {np.degrees(theta[k]):6.1f} deg")
+            for line, h in zip(hinge_lines, hinges[f]):
+                line.set_data_3d(*h.T)
+            label.set_text(f"t = {t[k]:7.3f} s   {pic['label'](k)}")
             writer.grab_frame()
     return path

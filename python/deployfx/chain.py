@@ -47,6 +47,10 @@ class ChainModel:
     hinges: tuple = field(default=(), repr=False)
     #: Per hinge: its lock's free play once latched, deg (clearance / pin radius); None: no lock.
     lock_play_deg: tuple = ()
+    #: Per hinge: the :class:`~deployfx.ShellModel` of its rigid panel (node coordinates in E_k, m),
+    #: or None for a body without a panel (a yoke); to place the panels in world coordinates
+    #: (deployfx.animation, deployfx.export).
+    shells: tuple = field(default=(), repr=False)
 
     def simulate(self, t_end: float, dt: float, scheme=GeneralizedAlpha(0.8), tolerance: Optional[float] = None,
                  progress: Optional[bool] = None, metadata: Optional[dict] = None,
@@ -154,4 +158,6 @@ def compile_chain(base: tuple, base_parts: list, links: list, description: Optio
     return ChainModel(system=system, num_hinges=len(specs), base_free=free,
                       locks=tuple(link["lock"] is not None for link in links),
                       description=dict(description or {}), hinges=tuple(geometry),
-                      lock_play_deg=tuple(_lock_play_deg(link["lock"]) for link in links))
+                      lock_play_deg=tuple(_lock_play_deg(link["lock"]) for link in links),
+                      shells=tuple(None if link["appendage"] is None else link["appendage"]["shell"]
+                                   for link in links))
