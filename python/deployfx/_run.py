@@ -56,7 +56,8 @@ ENERGY_GROWTH_LIMIT = 0.1
 
 def _energy_growth(raw: dict) -> str:
     """A message if the total energy of an undriven run grew by more than ENERGY_GROWTH_LIMIT of
-    the peak kinetic energy (a step too large for a stiff contact or a light base), else ''."""
+    the peak kinetic energy (a step beyond a conditionally stable scheme's limit, or too large for a
+    stiff contact), else ''."""
     E = raw["kinetic_energy"] + raw["potential_energy"]
     if len(E) < 2:
         return ""
@@ -67,8 +68,8 @@ def _energy_growth(raw: dict) -> str:
         return ""
     k = over[0]
     return (f"diverged: the total energy grew by {excess[k]:.3g} x the peak kinetic energy at "
-            f"t = {raw['t'][k]:.6g} s although nothing in the scene adds energy (a step too large "
-            f"for a stiff contact or a light base); use a smaller dt or error-controlled steps "
+            f"t = {raw['t'][k]:.6g} s although nothing in the scene adds energy (a step beyond the "
+            f"scheme's stability limit, or too large for a stiff contact); use a smaller dt or error-controlled steps "
             f"(tolerance=)")
 
 

@@ -70,39 +70,71 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
     return StepFailure(e.str());
   };
   Eigen::VectorXd vdot = s.vdot;  // predictor: constant acceleration
+  // With conserved momenta the base's accelerations play two parts (docs/engine-design.md,
+  // "Momentum rows and the base's acceleration"): vdot.head(nc) is the base's algorithmic
+  // acceleration, set by Pi(q_{n+1}, v_{n+1}) = Pi_n through the Newmark update, and w is the
+  // base acceleration the equations of motion see at t_{n+1}, set by the balance rows. Using
+  // vdot.head(nc) there instead lets the alpha recursion's parasitic root -alpha_f/(1 - alpha_f)
+  // into the appendage's rows, amplified by the inverse of the Schur complement (a light base).
+  const int n = static_cast<int>(vdot.size());
+  Eigen::VectorXd w = vdot.head(nc);
   // Convergence is judged against the accelerations at the step's start: an iterate that has run
   // away cannot make its own increments look small.
   const double scale = std::max(1.0, s.vdot.lpNorm<Eigen::Infinity>());
   bool refactor = !newton_.reuse_jacobian || factor_h_ != h;
   double previous = 0;
+  Eigen::VectorXd last;  // the previous applied increment (dv, db)
   for (int it = 1; it <= newton_.max_iterations; ++it) {
     const Eigen::VectorXd a1 = a_of(vdot);
     const Eigen::VectorXd q1 = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a1));
     const Eigen::VectorXd v1 = s.v + h * ((1 - gamma) * s.a + gamma * a1);
-    Eigen::VectorXd r = sys_.residual(q1, v1, vdot, t1);
-    if (nc) r.head(nc) = (sys_.momentum(q1, v1) - Pi_n) / (h * gamma * c);  // Eq. 42-43, integrated
-    if (!r.allFinite()) throw fail("the residual is not finite");
+    Eigen::VectorXd ve = vdot;  // the accelerations in the equations of motion
+    ve.head(nc) = w;
+    const Eigen::VectorXd r = sys_.residual(q1, v1, ve, t1);
+    // Eq. 42-43, integrated: the momentum rows, scaled like accelerations.
+    const Eigen::VectorXd rm = nc ? Eigen::VectorXd((sys_.momentum(q1, v1) - Pi_n) / (h * gamma * c)) : Eigen::VectorXd();
+    if (!r.allFinite() || !rm.allFinite()) throw fail("the residual is not finite");
     const bool fresh = refactor;
     if (fresh) {
-      BlockMatrix S = sys_.iteration_matrix(q1, v1, vdot, t1, 1.0, h * gamma * c, h * h * beta * c);
+      if (!solver_.factorize(sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c)))
+        throw fail("the iteration matrix is singular");
       if (nc) {  // d/dvdot of the momentum rows above
-        const Eigen::MatrixXd JP = sys_.momentum_jacobian(q1, v1, 1.0, h * beta / gamma);
-        S.A.topRows(nc) = JP.leftCols(S.border());
-        S.B.topRows(nc) = JP.rightCols(S.elastic());
+        momentum_jacobian_ = sys_.momentum_jacobian(q1, v1, 1.0, h * beta / gamma);
+        momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
       }
-      if (!solver_.factorize(S)) throw fail("the iteration matrix is singular");
       factor_h_ = h;
       refactor = !newton_.reuse_jacobian;
     }
+    // Newton on (w, the other accelerations) with the iteration matrix of the balance rows, then
+    // the base's algorithmic acceleration from the momentum rows. (The residual's dependence on
+    // vdot.head(nc) through q_{n+1}, v_{n+1} is attributed to w: the two differ by O(h).)
     const Eigen::VectorXd dv = solver_.solve(r);
-    const double size = dv.lpNorm<Eigen::Infinity>();
+    const Eigen::VectorXd db =
+        nc ? Eigen::VectorXd(momentum_lu_.solve(rm - momentum_jacobian_.rightCols(n - nc) * dv.tail(n - nc)))
+           : Eigen::VectorXd();
+    const double size = nc ? std::max(dv.lpNorm<Eigen::Infinity>(), db.lpNorm<Eigen::Infinity>())
+                           : dv.lpNorm<Eigen::Infinity>();
     if (!std::isfinite(size)) throw fail("the Newton increment is not finite");
     const double rho = previous > 0 ? size / previous : 0.0;
     if (!fresh && rho >= 1) {  // an old matrix that no longer contracts: refactor here instead
       refactor = true;
       continue;
     }
-    vdot -= dv;
+    // A 2-cycle of exact Newton: a fresh matrix's increment that undoes the previous one at the
+    // same size (Newton on a tanh-like law, e.g. the lock's regularized friction at stick, jumps
+    // across the steep zone for ever). Half a step lands inside it.
+    Eigen::VectorXd inc(n + db.size());
+    inc << dv, db;
+    const bool cycle = fresh && rho >= 0.9 && rho <= 1.1 && last.size() == inc.size() &&
+                       inc.dot(last) < -0.9 * inc.norm() * last.norm();
+    const double lambda = cycle ? 0.5 : 1.0;
+    last = lambda * inc;
+    vdot.tail(n - nc) -= lambda * dv.tail(n - nc);
+    if (nc) w -= lambda * dv.head(nc), vdot.head(nc) -= lambda * db;
+    if (cycle) {
+      previous = lambda * size;
+      continue;
+    }
     // Contraction rate of the (possibly modified) Newton iteration; its error estimate
     // rho/(1 - rho) |dv| (Hairer & Wanner, Solving ODEs II, Sec. IV.8) decides convergence.
     const double error = rho > 0 && rho < 1 ? size * rho / (1 - rho) : size;

@@ -8,6 +8,7 @@
 //   r(q_{n+1}, v_{n+1}, vdot_{n+1}, t_{n+1}) = 0, solved by Newton on vdot_{n+1}.
 // Newmark (beta, gamma) is alpha_m = alpha_f = 0; HHT-alpha is the alpha_m = 0 member.
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <stdexcept>
 #include <string>
 
@@ -45,9 +46,11 @@ struct NewtonOptions {
 };
 
 /// The state the integrator carries from step to step.
-/// With conserved momenta (SecondOrderSystem::num_conserved), their rows are solved as
-/// Pi(q_{n+1}, v_{n+1}) = Pi(q_n, v_n) and the converged velocity is polished onto that level
-/// set (Pi is linear in v), so momentum holds to round-off over any number of steps.
+/// With conserved momenta (SecondOrderSystem::num_conserved), the base's velocities are set by
+/// Pi(q_{n+1}, v_{n+1}) = Pi(q_n, v_n) (and the converged velocity is polished onto that level
+/// set: Pi is linear in v), so momentum holds to round-off over any number of steps; the base's
+/// vdot is then its algorithmic acceleration, and the equations of motion at t_{n+1} see the
+/// base acceleration their own balance rows give (see GeneralizedAlpha::step).
 struct AlphaState {
   double t = 0;
   Eigen::VectorXd q, v, vdot, a;  // a: the algorithmic acceleration
@@ -79,6 +82,10 @@ class GeneralizedAlpha {
   // Scratch of one run: the factorized iteration matrix and the step size it was built for.
   mutable BorderedSolver solver_;
   mutable double factor_h_ = -1;
+  // With conserved momenta: dPi/dvdot of the momentum rows at the last factorization, and the LU
+  // of its base columns.
+  mutable Eigen::MatrixXd momentum_jacobian_;
+  mutable Eigen::PartialPivLU<Eigen::MatrixXd> momentum_lu_;
 };
 
 }  // namespace deployfx::integrate
