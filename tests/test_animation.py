@@ -113,16 +113,36 @@ def test_bad_inputs(run, tmp_path):
         world_points("model", r, hinge=paper.scene)
 
 
-def test_mp4_needs_ffmpeg(run, tmp_path):
-    from matplotlib.animation import FFMpegWriter
-
+def test_mp4_has_the_frames_asked_for(run, tmp_path):
+    # MP4 through ffmpeg (the system's or the imageio-ffmpeg wheel of the test extras): the movie
+    # ffmpeg itself reads back has the frames written and lasts frames / fps.
+    imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
     paper, r = run
-    if FFMpegWriter.isAvailable():
-        path = animate(paper, r, tmp_path / "deploy.mp4", frames=3, dpi=40, figsize=(4, 3.5))
-        assert path.stat().st_size > 0
-    else:
-        with pytest.raises(RuntimeError, match="ffmpeg"):
-            animate(paper, r, tmp_path / "deploy.mp4", frames=3)
+    path = animate(paper, r, tmp_path / "deploy.mp4", frames=4, fps=8.0, dpi=40, figsize=(4, 3.5))
+    frames, seconds = imageio_ffmpeg.count_frames_and_secs(str(path))
+    assert frames == 4
+    assert seconds == pytest.approx(4 / 8.0, abs=1 / 8.0)
+
+
+def test_mp4_without_ffmpeg_says_how_to_get_it(run, tmp_path, monkeypatch):
+    # No ffmpeg on PATH and no imageio-ffmpeg: a RuntimeError naming both remedies, no file.
+    import builtins
+
+    import matplotlib
+
+    real_import = builtins.__import__
+
+    def no_imageio_ffmpeg(name, *args, **kwargs):
+        if name == "imageio_ffmpeg":
+            raise ImportError(name)
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setitem(matplotlib.rcParams, "animation.ffmpeg_path", "no-such-ffmpeg-deployfx")
+    monkeypatch.setattr(builtins, "__import__", no_imageio_ffmpeg)
+    paper, r = run
+    with pytest.raises(RuntimeError, match=r"ffmpeg.*deployfx\[video\].*apt-get install ffmpeg"):
+        animate(paper, r, tmp_path / "deploy.mp4", frames=3)
+    assert not (tmp_path / "deploy.mp4").exists()
 
 
 # ------------------------------------------------------------------------------------------------

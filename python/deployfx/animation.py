@@ -1,5 +1,6 @@
 """Animation of a deployment: the spacecraft base and the appendage mesh in world coordinates,
-written to a GIF (Pillow) or an MP4 (ffmpeg) with matplotlib's 3-D axes.
+written to a GIF (Pillow) or an MP4 (ffmpeg: the system's or imageio-ffmpeg's, ``_video``) with
+matplotlib's 3-D axes.
 
 World coordinates of the appendage's node ``i`` (frames in docs/notation.md)::
 
@@ -31,6 +32,7 @@ from typing import Any, Mapping, Optional, Sequence
 
 import numpy as np
 
+from . import _video
 from ._checks import as_float
 from .chain import ChainModel
 from .results import PathLike, Result
@@ -327,8 +329,8 @@ def animate(model: Any, result: Result, path: PathLike, fps: float = 20.0,
     evenly spaced times, so the movie lasts ``frames / fps`` s. ``base_size``: the cube's half
     side (m; default 0.9 of the (first) hinge point's largest coordinate, or 5 % of the
     appendage's span if the hinge is at B's origin). ``dpi``, ``figsize`` (inches), ``elev``,
-    ``azim`` (deg): the picture and the view. Raises RuntimeError for ``.mp4`` when ffmpeg is not
-    installed.
+    ``azim`` (deg): the picture and the view. Raises RuntimeError for ``.mp4`` when there is no
+    ffmpeg (neither on PATH nor from ``pip install "deployfx[video]"``).
     """
     import matplotlib
     from matplotlib import cm, colors
@@ -346,9 +348,7 @@ def animate(model: Any, result: Result, path: PathLike, fps: float = 20.0,
         raise ValueError(f"fps = {fps} is out of range: must be > 0 (frames per second)")
     if isinstance(dpi, bool) or not isinstance(dpi, (int, np.integer)) or dpi <= 0:
         raise ValueError(f"dpi = {dpi!r} must be a positive integer")
-    if suffix == ".mp4" and not FFMpegWriter.isAvailable():
-        raise RuntimeError("writing .mp4 needs ffmpeg, which was not found: install it (Debian: "
-                           "apt-get install ffmpeg) or write a .gif")
+    ffmpeg = _video.ffmpeg_path() if suffix == ".mp4" else None
 
     t = np.asarray(result["t"] if isinstance(result, Result) else [], dtype=float)
     chain = _chain_of(model)
@@ -396,9 +396,10 @@ def animate(model: Any, result: Result, path: PathLike, fps: float = 20.0,
     hinge_lines = [ax.plot(*h.T, color="tab:red", lw=1.5)[0] for h in hinges[0]]
     label = fig.text(0.02, 0.97, "", va="top", family="monospace")
 
-    writer = PillowWriter(fps=fps) if suffix == ".gif" else FFMpegWriter(fps=fps)
+    writer = PillowWriter(fps=fps) if ffmpeg is None else FFMpegWriter(fps=fps)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with writer.saving(fig, str(path), dpi):
+    with matplotlib.rc_context({"animation.ffmpeg_path": ffmpeg} if ffmpeg else {}), \
+            writer.saving(fig, str(path), dpi):
         for f, k in enumerate(idx):
             for poly, P, quads in zip(polys, meshes, pic["quads"]):
                 poly.set_verts(P[f][quads])
