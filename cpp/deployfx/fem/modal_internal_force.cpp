@@ -17,55 +17,61 @@ ModalInternalForce::ModalInternalForce(const ShellModel& model, const Eigen::Mat
   K_ = Phi.transpose() * (model.stiffness() * Phi);
   K_ = 0.5 * (K_ + K_.transpose()).eval();
   if (!green_) return;
-  auto T = [&](const Eigen::VectorXd& eta) {
-    SparseMatrix KT;
-    model.internal_force(Phi * eta, nullptr, &KT);
-    return Eigen::MatrixXd(Phi.transpose() * (KT * Phi));
-  };
-  // Probe amplitudes: exact for any, but round-off scales with the largest entry of T(probe).
-  // Each coordinate is probed at the same strain energy (1/2 K_kk s_k^2 = that of a unit probe of
-  // the most flexible one, a large deflection), so stiff in-plane vectors are probed at small
-  // strains instead of unit amplitude (which would bury the bending block under their membrane
-  // forces).
-  const Eigen::VectorXd k_diag = K_.diagonal().cwiseMax(1e-300);
-  Eigen::VectorXd s(r);
-  for (int k = 0; k < r; ++k) s(k) = std::sqrt(k_diag.minCoeff() / k_diag(k));
-  Eigen::MatrixXd A_full(r * r, r);
-  std::vector<Eigen::MatrixXd> even(r);  // B_kk
-  for (int k = 0; k < r; ++k) {
-    const Eigen::VectorXd e = s(k) * Eigen::VectorXd::Unit(r, k);
-    const Eigen::MatrixXd Tp = T(e), Tm = T(-e);
-    A_full.col(k) = Eigen::Map<const Eigen::VectorXd>(Eigen::MatrixXd((Tp - Tm) / (2 * s(k))).data(), r * r);
-    even[k] = (Tp + Tm - 2 * K_) / (s(k) * s(k));
-  }
-  // T(e) + T(-e) - 2 K = s_k^2 B_kk + 2 s_k s_l B_kl + s_l^2 B_ll for e = s_k e_k + s_l e_l.
-  // Stored packed: row p(i, j) (i <= j) of column k (A) or of pair column p(k, l) (B).
+  // Green strain (You et al. 2016 Eq. 14) at a Gauss point, with d = Phi eta:
+  //   eps = E eta + q(eta) / 2,  q_a(eta) = eta^T Q_a eta  (Q_x = Px^T Px, Q_y = Py^T Py,
+  //   Q_xy = Px^T Py + Py^T Px; Px, Py the rows psi_x, psi_y of G Phi_e, Eq. 20);
+  // bending, shear and drilling strains are linear. The strain energy density
+  // eps^T A eps / 2 + eps^T B kappa + ... then has the cubic part q^T N_L / 2 (N_L = L Phi_e eta,
+  // the linear strains' resultant) and the quartic part q^T A q / 8. Summed over the Gauss
+  // points, with D_ijk = sum w Q_a,ij N_a,k and C_ijkl = sum w A_ab Q_a,ij Q_b,kl, the fully
+  // symmetric coefficients of U = ... + A_ijk eta^3 / 6 + B_ijkl eta^4 / 24 are
+  //   A_ijk = D_ij,k + D_ik,j + D_jk,i,   B_ijkl = C_ij,kl + C_ik,jl + C_il,jk.
+  // Both D and C are products of one (pairs x 3 Gauss points) array: exact and one pass over the
+  // elements (the intrusive evaluation; probing tangents instead, Muravyov & Rizzi, Comput.
+  // Struct. 81 (2003), took r (r + 1) assemblies).
   const int np = r * (r + 1) / 2;
-  A_.resize(np, r);
-  for (int k = 0; k < r; ++k) A_.col(k) = pack(A_full.col(k), r);
-  B_.resize(np, np);
-  int col = 0;
-  for (int k = 0; k < r; ++k)
-    for (int l = k; l < r; ++l, ++col) {
-      Eigen::MatrixXd Bkl = even[k];
-      if (l != k) {
-        const Eigen::VectorXd e = s(k) * Eigen::VectorXd::Unit(r, k) + s(l) * Eigen::VectorXd::Unit(r, l);
-        Bkl = (T(e) + T(-e) - 2 * K_ - s(k) * s(k) * even[k] - s(l) * s(l) * even[l]) / (2 * s(k) * s(l));
-      }
-      B_.col(col) = pack(Eigen::Map<const Eigen::VectorXd>(Bkl.data(), r * r), r);
+  const int ng = 4 * model.num_elements();
+  Eigen::MatrixXd Q(np, 3 * ng);   // column 3 g + a: the packed Q_a of Gauss point g
+  Eigen::MatrixXd QA(np, 3 * ng);  // the same times w A: column 3 g + b = sum_a w A_ab Q_a
+  Eigen::MatrixXd NL(3 * ng, r);   // row 3 g + a: w (L Phi_e)_a
+  Eigen::Matrix<double, kElementDofs, Eigen::Dynamic> Phi_e(kElementDofs, r);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> Psi(6, r);
+  for (int e = 0; e < model.num_elements(); ++e) {
+    for (int a = 0; a < 4; ++a) Phi_e.middleRows<kNodeDofs>(kNodeDofs * a) = Phi.middleRows<kNodeDofs>(kNodeDofs * model.quads()(e, a));
+    for (int g = 0; g < 4; ++g) {
+      const ShellElement::GreenOperators op = model.elements()[e].green_operators(g);
+      const int c = 3 * (4 * e + g);
+      Psi.noalias() = op.G * Phi_e;
+      NL.middleRows<3>(c).noalias() = op.weight * op.L * Phi_e;
+      int p = 0;
+      for (int i = 0; i < r; ++i)
+        for (int j = i; j < r; ++j, ++p) {
+          const auto xi = Psi.col(i).head<3>(), yi = Psi.col(i).tail<3>();
+          const auto xj = Psi.col(j).head<3>(), yj = Psi.col(j).tail<3>();
+          Q(p, c) = xi.dot(xj);
+          Q(p, c + 1) = yi.dot(yj);
+          Q(p, c + 2) = xi.dot(yj) + yi.dot(xj);
+        }
+      QA.middleCols<3>(c).noalias() = Q.middleCols<3>(c) * (op.weight * op.A);  // A symmetric
     }
-  // B_kl(i, j) is a fourth derivative of the strain energy, so B_ is symmetric: keep the mean
-  // of the two probe estimates of each entry (only the upper triangle is read).
-  B_ = (0.5 * (B_ + B_.transpose())).eval();
-}
-
-Eigen::VectorXd ModalInternalForce::pack(const Eigen::Ref<const Eigen::VectorXd>& vec_T, int r) {
-  // The symmetric part of the (r x r) matrix vec_T, upper triangle, pair order (0,0), (0,1), ...
-  Eigen::VectorXd out(r * (r + 1) / 2);
-  int p = 0;
+  }
+  const Eigen::MatrixXd D = Q * NL;  // (np x r)
+  Eigen::MatrixXd C(np, np);
+  C.noalias() = QA * Q.transpose();
+  std::vector<int> pair(static_cast<std::size_t>(r) * r);  // p(i, j) = p(j, i)
+  for (int i = 0, p = 0; i < r; ++i)
+    for (int j = i; j < r; ++j, ++p) pair[i * r + j] = pair[j * r + i] = p;
+  auto P = [&](int i, int j) { return pair[static_cast<std::size_t>(i) * r + j]; };
+  A_.resize(np, r);
   for (int i = 0; i < r; ++i)
-    for (int j = i; j < r; ++j) out(p++) = 0.5 * (vec_T(i + r * j) + vec_T(j + r * i));
-  return out;
+    for (int j = i; j < r; ++j)
+      for (int k = 0; k < r; ++k) A_(P(i, j), k) = D(P(i, j), k) + D(P(i, k), j) + D(P(j, k), i);
+  B_.resize(np, np);
+  for (int k = 0; k < r; ++k)
+    for (int l = k; l < r; ++l)
+      for (int i = 0; i < r; ++i)
+        for (int j = i; j < r; ++j)
+          B_(P(i, j), P(k, l)) = C(P(i, j), P(k, l)) + C(P(i, k), P(j, l)) + C(P(i, l), P(j, k));
 }
 
 void ModalInternalForce::polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A,

@@ -6,9 +6,9 @@
 //   f(eta) = K eta + A(eta) eta / 2 + B(eta) eta / 6,
 //   U(eta) = eta^T K eta / 2 + eta^T A(eta) eta / 6 + eta^T B(eta) eta / 24,
 // the geometric stiffening of the reduced model in modal form (Mignolet et al., J. Sound Vib.
-// 332, 2013: the "stiffness evaluation" of the polynomial coefficients). The coefficients are
-// recovered exactly (to round-off) from symmetric pairs T(+x), T(-x): the odd part of T is A, the
-// even part K + B/2. Linear strain keeps K only.
+// 332, 2013). The coefficients are computed exactly from the elements' Green-strain operators at
+// their Gauss points (ShellElement::green_operators; the derivation is in the .cpp), in one pass
+// over the mesh. Linear strain keeps K only.
 #include <Eigen/Core>
 #include <mutex>
 
@@ -18,8 +18,8 @@ namespace deployfx::fem {
 
 class ModalInternalForce {
  public:
-  /// Phi: (ndof x r) basis. green_strain: the nonlinear coefficients (r (r + 1) tangent
-  /// assemblies, once); otherwise f = K eta.
+  /// Phi: (ndof x r) basis. green_strain: the nonlinear coefficients (once, O(r^4 n_gauss));
+  /// otherwise f = K eta.
   ModalInternalForce(const ShellModel& model, const Eigen::MatrixXd& Phi, bool green_strain);
 
   int size() const { return static_cast<int>(K_.rows()); }
@@ -35,9 +35,6 @@ class ModalInternalForce {
   // A(eta) and B(eta) as (r x r) matrices; the last eta's are kept (Newton evaluates the
   // residual and then, for a fresh matrix, the tangent at the same eta: one product, not two).
   void polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A, Eigen::MatrixXd* B) const;
-  // The upper triangle of a symmetric (r x r) matrix given column-major, as a vector of its
-  // r (r + 1) / 2 pairs i <= j in the order (0,0), (0,1), ..., (0,r-1), (1,1), ...
-  static Eigen::VectorXd pack(const Eigen::Ref<const Eigen::VectorXd>& vec_T, int r);
   bool green_ = false;
   Eigen::MatrixXd K_;
   // The coefficients on the pairs i <= j (every A_k and B_kl is symmetric, as T is): A_ is

@@ -257,6 +257,18 @@ double ShellElement::strain_energy(const ElemVec& d_W) const {
   return U;
 }
 
+ShellElement::GreenOperators ShellElement::green_operators(int gauss_point) const {
+  const GaussPoint& p = gp_.at(static_cast<std::size_t>(gauss_point));
+  GreenOperators out{p.G, A_ * p.Bm + B_ * p.Bb, A_, p.weight};
+  // d_E = T d_W with T = blockdiag(R_WE^T) on the eight 3-blocks: an operator X on E's dofs is
+  // X T on W's, column block by column block.
+  for (int b = 0; b < kElementDofs / 3; ++b) {
+    out.G.middleCols<3>(3 * b) = (p.G.middleCols<3>(3 * b) * R_WE_.transpose()).eval();
+    out.L.middleCols<3>(3 * b) = (out.L.middleCols<3>(3 * b) * R_WE_.transpose()).eval();
+  }
+  return out;
+}
+
 void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W) const {
   const ElemVec d = to_element(d_W);
   ElemVec f = ElemVec::Zero();

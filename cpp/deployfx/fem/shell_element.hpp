@@ -72,6 +72,19 @@ class ShellElement {
   /// Internal force f = dU/dd and tangent K_T = K_L + K_L*(d) + K_s(N(d)) (world dofs).
   void internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W) const;
 
+  /// The ingredients of the Green membrane strain at Gauss point g, on world dofs, for its exact
+  /// projection on a Ritz basis (fem/modal_internal_force): the gradients psi = G d (Eq. 20), so
+  /// eps = Bm d + 1/2 (psi_x.psi_x, psi_y.psi_y, 2 psi_x.psi_y) (Eq. 14); the resultant of the
+  /// linear strains, N_L = L d = (A Bm + B Bb) d (N/m); the membrane stiffness A (N/m) and the
+  /// area weight (m^2). Bending, shear and drilling strains are linear in d (in K_L only).
+  struct GreenOperators {
+    Eigen::Matrix<double, 6, kElementDofs> G;
+    Eigen::Matrix<double, 3, kElementDofs> L;
+    Eigen::Matrix3d A;
+    double weight;
+  };
+  GreenOperators green_operators(int gauss_point) const;
+
  private:
   struct GaussPoint {
     Eigen::Matrix<double, 3, kElementDofs> Bm;  // membrane strain (eps_x, eps_y, gamma_xy)
