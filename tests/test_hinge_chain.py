@@ -353,9 +353,13 @@ def test_scene_chain_with_one_hinge_stays_on_the_single_hinge_path():
     np.testing.assert_array_equal(ma.simulate(0.5, 0.01).theta, mb.simulate(0.5, 0.01).theta)
 
 
-def test_scene_rejects_a_flexible_panel_in_a_chain():
-    with pytest.raises(ValueError, match=r"hinges\[2\] appendage fidelity = 'linear'.*rigid panels only"):
-        array_scene("linear").compile()
+@pytest.mark.parametrize("fidelity", ["linear", "nonlinear"])
+def test_scene_rejects_a_full_finite_element_panel_in_a_chain(fidelity):
+    # Flexible panels in a chain are the reduced fidelities (tests/test_flexible_chain.py); the full
+    # models are refused, naming the parameter and the values a chain takes.
+    with pytest.raises(ValueError, match=rf"hinges\[2\] appendage fidelity = '{fidelity}' is not supported in a "
+                                         r"chain: must be one of 'rigid', 'reduced-linear', 'reduced-nonlinear'"):
+        array_scene(fidelity).compile()
 
 
 def test_scene_chain_errors_name_the_parameter():

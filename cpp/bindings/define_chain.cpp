@@ -1,8 +1,9 @@
-// Glue for system::HingeChain (a base and a serial chain of rigid bodies on spring hinges).
+// Glue for system::HingeChain (a base and a serial chain of rigid or flexible bodies on spring hinges).
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,12 @@ using deployfx::system::ChainHingeSpec;
 using deployfx::system::HingeChain;
 
 namespace {
+
+void check_hinge_index(const HingeChain& s, int k) {
+  if (k < 0 || k >= s.num_hinges())
+    throw std::invalid_argument("hinge = " + std::to_string(k) + " is out of range: must be in [0, " +
+                                std::to_string(s.num_hinges() - 1) + "]");
+}
 
 // The system's methods index q, v and a directly: check sizes here so a wrong call raises.
 void check_sizes(const HingeChain& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
@@ -48,7 +55,10 @@ void define_chain(py::module_& m) {
   py::class_<ChainHingeSpec>(m, "ChainHingeSpec")
       .def(py::init([](const Eigen::Vector3d& point, const Eigen::Vector3d& axis, const Eigen::Matrix3d& R_PC0,
                        double tau0, double k_theta, double c_theta, double mass, const Eigen::Vector3d& com,
-                       const Eigen::Matrix3d& inertia, std::optional<deployfx::joint::HingeLockSpec> lock) {
+                       const Eigen::Matrix3d& inertia, std::optional<deployfx::joint::HingeLockSpec> lock,
+                       std::optional<deployfx::fem::ShellModel> shell, std::vector<int> fixed_dofs,
+                       const std::string& fidelity, double alpha_M, double beta_K, int modes,
+                       int derivative_modes) {
              ChainHingeSpec h;
              h.point_P = point;
              h.axis_P = axis;
@@ -58,20 +68,32 @@ void define_chain(py::module_& m) {
              h.c_theta = c_theta;
              h.body = {mass, com, inertia};
              h.lock = lock;
+             if (shell)
+               h.appendage = deployfx::body::AppendageSpec{
+                   std::make_shared<const deployfx::fem::ShellModel>(std::move(*shell)), std::move(fixed_dofs),
+                   deployfx::body::fidelity_from_name(fidelity, "appendage.fidelity"), alpha_M, beta_K, modes,
+                   derivative_modes};
              return h;
            }),
            py::arg("point"), py::arg("axis"), py::arg("R_PC0"), py::arg("tau0"), py::arg("k_theta"),
            py::arg("c_theta"), py::arg("mass"), py::arg("com"), py::arg("inertia"), py::arg("lock") = py::none(),
+           py::arg("shell") = py::none(), py::arg("fixed_dofs") = std::vector<int>(),
+           py::arg("fidelity") = "rigid", py::arg("alpha_M") = 0.0, py::arg("beta_K") = 0.0, py::arg("modes") = 10,
+           py::arg("derivative_modes") = -1,
            "Hinge k and its child body: point (m) and unit axis in the parent's frame, the child's axes at "
            "theta = 0, spring tau0 - k_theta theta (N m, N m/rad), damper c_theta (N m s/rad), the child "
-           "body's mass (kg), centre of mass (m) and inertia about it (kg m^2) in the child frame, a lock.")
+           "body's rigid mass (kg), centre of mass (m) and inertia about it (kg m^2) in the child frame, a lock; "
+           "optionally a panel: its ShellModel (nodes in the child frame, m), clamped dofs, fidelity, Rayleigh "
+           "damping alpha_M (1/s) and beta_K (s), and for the reduced fidelities modes and derivative_modes "
+           "(-1: automatic).")
       .def_readonly("point", &ChainHingeSpec::point_P)
       .def_readonly("axis", &ChainHingeSpec::axis_P)
       .def_readonly("R_PC0", &ChainHingeSpec::R_PC0);
 
   py::class_<HingeChain>(m, "HingeChain",
-                         "The compiled chain of rigid bodies on spring hinges: q = a free base's position "
-                         "(m) and unit quaternion (w, x, y, z), then the hinge angles (rad).")
+                         "The compiled chain of bodies on spring hinges: q = a free base's position (m) and unit "
+                         "quaternion (w, x, y, z), the hinge angles (rad), then each flexible panel's elastic "
+                         "coordinates in hinge order.")
       .def(py::init([](bool base_free, double base_mass, const Eigen::Matrix3d& base_inertia,
                        const Eigen::Vector3d& base_com, std::vector<ChainHingeSpec> hinges) {
              BaseSpec b{base_free, {base_mass, base_com, base_inertia}};
@@ -83,6 +105,57 @@ void define_chain(py::module_& m) {
       .def_property_readonly("num_velocities", &HingeChain::num_velocities)
       .def_property_readonly("num_hinges", &HingeChain::num_hinges)
       .def_property_readonly("num_conserved", &HingeChain::num_conserved)
+      .def(
+          "num_elastic",
+          [](const HingeChain& s, int k) {
+            check_hinge_index(s, k);
+            return s.num_elastic(k);
+          },
+          py::arg("hinge"), "Body k's elastic coordinates (0 for a rigid body).")
+      .def(
+          "elastic_position",
+          [](const HingeChain& s, int k) {
+            check_hinge_index(s, k);
+            return s.elastic_position(k);
+          },
+          py::arg("hinge"), "Where body k's elastic coordinates start in q (-1 for a rigid body).")
+      .def(
+          "displacement_map",
+          [](const HingeChain& s, int k) {
+            check_hinge_index(s, k);
+            const auto* f = s.flexible_body(k);
+            if (!f) return Eigen::MatrixXd(0, 0);
+            std::vector<int> all(f->spec().model->num_dofs());
+            for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+            return f->mesh_rows(all);
+          },
+          py::arg("hinge"),
+          "Body k's mesh displacements per elastic coordinate, (6 nodes x num_elastic(k)): the Ritz basis of a "
+          "reduced panel, a selection of the free dofs for a full one; empty for a rigid body.")
+      .def(
+          "basis_info",
+          [](const HingeChain& s, int k) -> py::object {
+            check_hinge_index(s, k);
+            const auto* f = s.flexible_body(k);
+            if (!f || !f->reduced()) return py::none();
+            py::dict d;
+            d["modes"] = f->basis().modes;
+            d["static_corrections"] = f->basis().static_corrections;
+            d["modal_derivatives"] = f->basis().modal_derivatives;
+            d["size"] = static_cast<int>(f->basis().Phi.cols());
+            d["omega2"] = f->basis().omega2;
+            return std::move(d);
+          },
+          py::arg("hinge"), "A reduced panel's basis: the vectors proposed of each kind, its size and Ritz values "
+          "((rad/s)^2); None otherwise.")
+      .def(
+          "attachment_node",
+          [](const HingeChain& s, int k) {
+            check_hinge_index(s, k);
+            const auto* a = s.attachment(k);
+            return a ? a->node : -1;
+          },
+          py::arg("hinge"), "The node of hinge k's flexible parent the hinge is attached to (-1: a rigid parent).")
       .def("initial_positions", &HingeChain::initial_positions)
       .def("retract",
            [](const HingeChain& s, const Eigen::VectorXd& q, const Eigen::VectorXd& dq) {
@@ -139,6 +212,7 @@ void define_chain(py::module_& m) {
              d["lock_force"] = o.lock_force;
              d["lock_torque"] = o.lock_torque;
              d["latched"] = o.latched;
+             d["strain_energy"] = o.strain_energy;
              d["linear_momentum"] = o.P_W;
              d["angular_momentum"] = o.H_W;
              d["base_linear_momentum"] = o.P_base_W;
@@ -170,6 +244,7 @@ void define_chain(py::module_& m) {
           d["lock_force"] = stack(out, N, &O::lock_force);
           d["lock_torque"] = stack(out, N, &O::lock_torque);
           d["latched"] = stack(out, N, &O::latched);
+          d["strain_energy"] = stack(out, N, &O::strain_energy);
           d["linear_momentum"] = stack3(out, &O::P_W);
           d["angular_momentum"] = stack3(out, &O::H_W);
           d["base_linear_momentum"] = stack3(out, &O::P_base_W);
@@ -185,5 +260,5 @@ void define_chain(py::module_& m) {
         "Runs the chain from (q0, v0) to t_end (s), output every dt (s), with the GIL released (Ctrl-C and "
         "progress(t, t_end) every 0.2 s). Returns the trajectory dict (t, q, v, ...) with per-hinge series "
         "as (n, N) arrays (theta rad, theta_rate rad/s, spring_torque N m, lock_force N, lock_torque N m, "
-        "latched 0/1), momenta (n, 3) in W (N s, N m s about W's origin), energies (n,) J.");
+        "latched 0/1, strain_energy J), momenta (n, 3) in W (N s, N m s about W's origin), energies (n,) J.");
 }

@@ -32,17 +32,6 @@ void check_sizes(const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::V
                                 std::to_string(s.num_velocities()));
 }
 
-Fidelity parse_fidelity(const std::string& s) {
-  if (s == "rigid") return Fidelity::kRigid;
-  if (s == "linear") return Fidelity::kLinear;
-  if (s == "nonlinear") return Fidelity::kNonlinear;
-  if (s == "reduced-linear") return Fidelity::kReducedLinear;
-  if (s == "reduced-nonlinear") return Fidelity::kReducedNonlinear;
-  throw std::invalid_argument("fidelity = '" + s +
-                              "' is invalid: must be 'rigid', 'linear', 'nonlinear', 'reduced-linear' or "
-                              "'reduced-nonlinear'");
-}
-
 }  // namespace
 
 void define_system(py::module_& m) {
@@ -85,7 +74,7 @@ void define_system(py::module_& m) {
              h.c_theta = c_theta;
              if (spin_up) h.driven = true, h.driver = {spin_up->first, spin_up->second};
              AppendageSpec a{std::make_shared<const deployfx::fem::ShellModel>(model),
-                             std::move(fixed_dofs), parse_fidelity(fidelity), alpha_M, beta_K, modes,
+                             std::move(fixed_dofs), deployfx::body::fidelity_from_name(fidelity), alpha_M, beta_K, modes,
                              derivative_modes};
              return std::make_unique<HingedSystem>(b, h, a);
            }),

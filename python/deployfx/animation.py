@@ -12,16 +12,19 @@ its elastic displacement in E. They come from the raw ``q`` series that
 :meth:`Model.simulate <deployfx.scene.Model.simulate>` keeps by default (``q = [r_W, quaternion
 (w, x, y, z) of R_WB] [theta] [free elastic dofs]``) and the hinge geometry of the scene.
 
-A chain of hinges (:class:`~deployfx.chain.ChainModel`) places each rigid panel the same way,
+A chain of hinges (:class:`~deployfx.chain.ChainModel`) places each panel the same way,
 composing the hinge frames from the base out (:func:`body_frames`)::
 
     R_WE_k = R_WP_k Rot(axis_k, theta_k) R_PE0_k,   o_W_k = o_W_P + R_WP_k point_k,
-    p_W = o_W_k + R_WE_k X_i
+    p_W = o_W_k + R_WE_k (X_i + u_i)
 
 with P_k the parent's frame (B for hinge 0: ``o_W_P = r_W``, ``R_WP = R_WB``; else E_{k-1}),
-``point_k``, ``axis_k`` and ``R_PE0_k`` hinge k's geometry in P_k (``ChainModel.hinges``) and
-``X_i`` the panel's nodes in E_k (``ChainModel.shells[k]``); ``q = [r_W, quaternion] [theta_0 ..
-theta_N-1]`` (base blocks for a free base only).
+``point_k``, ``axis_k`` and ``R_PE0_k`` hinge k's geometry in P_k (``ChainModel.hinges``),
+``X_i`` the panel's nodes in E_k (``ChainModel.shells[k]``) and ``u_i`` their elastic displacement
+(zero for a rigid panel; ``ChainModel.node_displacements``); ``q = [r_W, quaternion] [theta_0 ..
+theta_N-1] [elastic coordinates]`` (base blocks for a free base only). A hinge on a flexible panel
+rides on its deformed mesh (its point and axes move with the attachment node's displacement and
+rotation): the frames then come from the engine (``ChainModel.system.frames``).
 
 Figures are built without pyplot (nothing is shown, no interactive backend is needed).
 """
@@ -167,6 +170,12 @@ def body_frames(model: Any, result: Result) -> tuple[np.ndarray, np.ndarray]:
     o_P, R_WP = base_poses(chain, result)
     n, N = len(q), chain.num_hinges
     R_WE, o_W = np.empty((n, N, 3, 3)), np.empty((n, N, 3))
+    if any(a >= 0 for a in chain.attachment_nodes):  # hinges riding on deformed panels: the engine's
+        for i in range(n):
+            R, o = chain.system.frames(q[i])
+            R_WE[i] = np.asarray(R).reshape(3, N, 3).transpose(1, 0, 2)
+            o_W[i] = np.asarray(o).T
+        return R_WE, o_W
     for k, h in enumerate(chain.hinges):
         axis = np.asarray(h["axis"], dtype=float)
         R_PE = _rotation_about(axis / np.linalg.norm(axis), q[:, first + k]) @ np.asarray(h["R_PE0"], dtype=float)
@@ -211,9 +220,9 @@ def world_points(model: Any, result: Result, hinge: Any = None, scale: float = 1
     ``.model``); ``hinge``: see :func:`hinge_geometry`; ``scale``: magnification of the elastic
     displacements (1 = true shape; 0 = undeformed).
 
-    For a :class:`~deployfx.chain.ChainModel`: the rigid panel of hinge ``hinge`` (its index;
-    None: the chain's only panel), its mesh ``ChainModel.shells[hinge]`` placed with
-    :func:`body_frames` (``scale`` has nothing to magnify).
+    For a :class:`~deployfx.chain.ChainModel`: the panel of hinge ``hinge`` (its index; None: the
+    chain's only panel), its mesh ``ChainModel.shells[hinge]`` plus ``scale`` times its elastic
+    displacement (zero for a rigid panel) placed with :func:`body_frames`.
     """
     scale = as_float("scale", scale)
     if not np.isfinite(scale):
@@ -222,8 +231,9 @@ def world_points(model: Any, result: Result, hinge: Any = None, scale: float = 1
     if chain is not None:
         k = _panel_index(chain, hinge)
         R_WE, o_W = body_frames(chain, result)
-        X = np.asarray(chain.shells[k].nodes, dtype=float)
-        return o_W[:, k, None, :] + np.einsum("kij,nj->kni", R_WE[:, k], X)
+        X = np.asarray(chain.shells[k].nodes, dtype=float)[None] + scale * chain.node_displacements(
+            _q_series(chain, result), k)
+        return o_W[:, k, None, :] + np.einsum("kij,knj->kni", R_WE[:, k], X)
     m = _model_of(model)
     if m.shell is None:
         raise ValueError("model has no appendage mesh to place")
@@ -285,8 +295,9 @@ def _one_hinge_picture(model: Any, result: Result, hinge: Any, scale: float) -> 
                 label=lambda k: f"hinge travel {np.degrees(theta[k]):6.1f} deg")
 
 
-def _chain_picture(chain: ChainModel, result: Result, hinge: Any) -> dict:
-    """What animate draws for a chain: every rigid panel in its own colour, every hinge axis."""
+def _chain_picture(chain: ChainModel, result: Result, hinge: Any, scale: float) -> dict:
+    """What animate draws for a chain: every panel (deformed, ``scale`` times its elastic
+    displacement) in its own colour, every hinge axis."""
     if hinge is not None:
         raise ValueError("hinge must be None for a chain: its hinges' geometry is in ChainModel.hinges")
     R_WE, o_W = body_frames(chain, result)                  # checks result
@@ -302,7 +313,7 @@ def _chain_picture(chain: ChainModel, result: Result, hinge: Any) -> dict:
         axes.append(o_W[:, k, None, :] + 0.5 * span * np.stack([-a_W, a_W], axis=1))
     q = _q_series(chain, result)
     theta = q[:, 7 if chain.base_free else 0:]
-    return dict(points=[o_W[:, k, None, :] + np.einsum("kij,nj->kni", R_WE[:, k], X) for k, X in zip(panels, nodes)],
+    return dict(points=[world_points(chain, result, k, scale) for k in panels],
                 quads=[np.asarray(chain.shells[k].quads, dtype=int) for k in panels], disp=None,
                 axes=np.stack(axes, axis=1), r_W=r_W, R_WB=R_WB,
                 point=np.asarray(chain.hinges[0]["point"], dtype=float), span=span,
@@ -320,8 +331,9 @@ def animate(model: Any, result: Result, path: PathLike, fps: float = 20.0,
     Each frame shows, in world axes (m), the base as a wire cube with its pose, the hinge axis and
     the appendage's quads coloured by the magnitude of their elastic displacement (m), with the
     time (s) and the hinge travel (deg). For a :class:`~deployfx.chain.ChainModel` (or a ready
-    scene holding one): every hinge axis and every rigid panel (each in its own colour) placed
-    with :func:`body_frames`, and each hinge's travel (deg); ``hinge`` must then be None.
+    scene holding one): every hinge axis and every panel (each in its own colour; a flexible one
+    deformed, ``scale`` times) placed with :func:`body_frames`, and each hinge's travel (deg);
+    ``hinge`` must then be None.
 
     ``model``, ``result``, ``hinge``, ``scale``: as :func:`world_points` (``result`` must hold the
     raw ``q``: e.g. ``scene.model.simulate(t_end, dt)``). ``fps``: frames per second of the
@@ -353,7 +365,7 @@ def animate(model: Any, result: Result, path: PathLike, fps: float = 20.0,
     t = np.asarray(result["t"] if isinstance(result, Result) else [], dtype=float)
     chain = _chain_of(model)
     pic = (_one_hinge_picture(model, result, hinge, scale) if chain is None
-           else _chain_picture(chain, result, hinge))
+           else _chain_picture(chain, result, hinge, scale))
     idx = _frame_indices(t, frames)
     r_W, R_WB, span = pic["r_W"], pic["R_WB"], pic["span"]
 

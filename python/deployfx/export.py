@@ -8,8 +8,9 @@ opens the numbered files as one time series), with the mesh's quads, the deforme
 Positions are in the appendage frame E by default (``frame="appendage"``), or in world
 coordinates W (``frame="world"``, with the ``model`` that made the run: the base's pose and the
 hinge's travel from its raw ``q``, as :func:`deployfx.animation.world_points`). A chain of hinges
-(:class:`~deployfx.chain.ChainModel`) is written in W, its rigid panels merged into one mesh per
-sample with cell data ``hinge`` (the index of the hinge whose panel each quad is).
+(:class:`~deployfx.chain.ChainModel`) is written in W, its panels (deformed, for flexible ones)
+merged into one mesh per sample with cell data ``hinge`` (the index of the hinge whose panel each
+quad is).
 """
 from __future__ import annotations
 
@@ -36,8 +37,8 @@ def write_vtk_series(result: Result, shell: Optional[ShellModel], directory: Uni
     axes; needs ``model``, the :class:`~deployfx.scene.Model` that made ``result`` (or a ready
     scene with a ``.model``, e.g. ``scenes.paper2016(...)``), and ``result``'s raw ``q`` series;
     ``shell`` may then be None (the model's mesh). A :class:`~deployfx.chain.ChainModel` as
-    ``model`` (``shell`` None, ``frame`` None or "world"): every rigid panel in W, merged, with
-    zero ``displacement`` and cell data ``hinge``.
+    ``model`` (``shell`` None, ``frame`` None or "world"): every panel in W, merged, with cell
+    data ``hinge`` and ``displacement`` the elastic displacement in W's axes (zero on rigid panels).
     """
     try:
         import meshio
@@ -73,7 +74,10 @@ def write_vtk_series(result: Result, shell: Optional[ShellModel], directory: Uni
             offset += s.nodes.shape[0]
         quads = np.concatenate(quads)
         cell_data = {"hinge": [np.concatenate(body)]}
-        disp = np.zeros_like(points)
+        R_WE, _ = animation.body_frames(chain, result)
+        q = animation._q_series(chain, result)
+        disp = np.concatenate([np.einsum("kij,knj->kni", R_WE[:, k], chain.node_displacements(q, k))
+                               for k in panels], axis=1)
     else:
         if model is None and frame == "world":
             raise ValueError("frame = 'world' needs model: the Model that made the result (for the base's "

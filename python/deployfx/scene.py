@@ -14,8 +14,9 @@ travel from the stowed position. SI units throughout.
 
 A chain of hinges (issue 5: a yoke and panels, as on solar arrays) is declared hinge by hinge
 with ``Scene.add_hinge(parent, ...)``, hinge k on the body of hinge k - 1, each with its own
-spring, lock, rigid parts and rigid appendage, in its frame E_k (axes ``Rot(axis_k, theta_k)
-R_PE0_k`` in the parent's); it compiles into a :class:`~deployfx.chain.ChainModel`.
+spring, lock, rigid parts and appendage (rigid, reduced-linear or reduced-nonlinear), in its
+frame E_k (axes ``Rot(axis_k, theta_k) R_PE0_k`` in the parent's); it compiles into a
+:class:`~deployfx.chain.ChainModel`. A hinge on a flexible panel rides on its deforming mesh.
 """
 from __future__ import annotations
 
@@ -210,7 +211,9 @@ class Scene:
     ``add_hinge(parent="base", ...)``), then each further hinge on the previous body with
     ``add_hinge(parent=k - 1, ...)``; ``set_appendage``, ``set_lock`` and ``add_rigid_part(...,
     body=k)`` attach a panel, a lock or a rigid part (a yoke) to hinge k's body (by default the
-    last hinge declared). Every body of a chain of several hinges is rigid.
+    last hinge declared). A panel of a chain may be rigid, "reduced-linear" or "reduced-nonlinear"
+    (a chain's Newton matrix is dense: the full models are refused there), and a flexible panel
+    may carry the next hinge (attached to its nearest node, docs/research/flexible-chain.md).
     """
 
     def __init__(self) -> None:
@@ -332,8 +335,9 @@ class Scene:
         force in that basis (docs/engine-design.md).
         ``damping = (alpha_M, beta_K)``: structural Rayleigh damping C = alpha_M M + beta_K K
         (1/s, s), a modal damping ratio (alpha_M / omega + beta_K omega) / 2.
-        ``hinge``: the hinge whose body the appendage is (None: the last hinge declared); in a
-        chain of several hinges every appendage must be "rigid"."""
+        ``hinge``: the hinge whose body the appendage is (None: the last hinge declared). A chain
+        of several hinges takes "rigid", "reduced-linear" and "reduced-nonlinear" panels (its
+        Newton matrix is dense: the full models would cost O(dofs^2); compile() says so)."""
         if not isinstance(shell, ShellModel):
             raise TypeError(f"shell must be a deployfx.ShellModel, got {type(shell).__name__}")
         if fidelity not in FIDELITIES:

@@ -26,8 +26,8 @@ void SpinUpDriver::evaluate(double t, double* theta, double* rate, double* accel
 }
 
 HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appendage)
-    : base_(std::move(base)), hinge_(std::move(hinge)), app_(std::move(appendage)),
-      ffi_(app_.model ? *app_.model : throw std::invalid_argument("appendage.model is missing")) {
+    : base_(std::move(base)), hinge_(std::move(hinge)) {
+  if (!appendage.model) throw std::invalid_argument("appendage.model is missing");
   if (base_.free) check_rigid_inertia("base", base_.inertia, true);
   check_rigid_inertia("hinge.fitting", hinge_.fitting, false);
   if (!(std::abs(hinge_.axis_B.norm() - 1.0) < 1e-9))
@@ -42,71 +42,28 @@ HingedSystem::HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appenda
     require_finite("spin_up.omega_s", hinge_.driver.omega_s, "(rad/s)");
   }
   if (hinge_.lock) hinge_.lock->validate();
-  if (!(app_.alpha_M >= 0 && std::isfinite(app_.alpha_M)))
-    throw_out_of_range("appendage.alpha_M", app_.alpha_M, "finite and >= 0 (1/s)");
-  if (!(app_.beta_K >= 0 && std::isfinite(app_.beta_K)))
-    throw_out_of_range("appendage.beta_K", app_.beta_K, "finite and >= 0 (s)");
-  flexible_ = app_.fidelity != Fidelity::kRigid;
-  green_ = app_.fidelity == Fidelity::kNonlinear || app_.fidelity == Fidelity::kReducedNonlinear;
+  // The appendage's checks (appendage.alpha_M, .beta_K, .modes, .derivative_modes), its shape
+  // integrals, basis and elastic force.
+  app_.emplace(std::move(appendage), "appendage");
+  flexible_ = app_->flexible();
+  green_ = app_->green();
   frame_rigid_ = hinge_.fitting;
   if (!flexible_) {
     // The undeformed appendage as a rigid body, merged with the fitting (parallel axes).
-    const double m = ffi_.mass() + frame_rigid_.mass;
-    const Eigen::Vector3d s = ffi_.S0() + frame_rigid_.first_moment();
-    const Eigen::Matrix3d J_O = ffi_.J0() + frame_rigid_.inertia_origin();
+    const double m = ffi().mass() + frame_rigid_.mass;
+    const Eigen::Vector3d s = ffi().S0() + frame_rigid_.first_moment();
+    const Eigen::Matrix3d J_O = ffi().J0() + frame_rigid_.inertia_origin();
     const Eigen::Vector3d c = s / m;
     frame_rigid_ = {m, c, J_O - m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose())};
-  }
-  if (app_.fidelity == Fidelity::kReducedLinear || app_.fidelity == Fidelity::kReducedNonlinear) {
-    const int nfree = static_cast<int>(fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs).size());
-    if (!(app_.modes >= 1 && app_.modes <= nfree))
-      throw_out_of_range("appendage.modes", app_.modes, "in [1, " + std::to_string(nfree) + "] (the free dofs)");
-    // The loads E's acceleration puts on the appendage, int rho N^T a and int rho N^T (al x P):
-    // S1^T and H(0)^T (Eq. 28).
-    Eigen::MatrixXd loads(ffi_.num_dofs(), 6);
-    loads << ffi_.S1().transpose(), ffi_.rotation_coupling(Eigen::VectorXd::Zero(ffi_.num_dofs())).transpose();
-    if (!(app_.derivative_modes >= -1 && app_.derivative_modes <= app_.modes))
-      throw_out_of_range("appendage.derivative_modes", app_.derivative_modes, "in [0, modes] or -1 (automatic)");
-    const int derivatives = app_.derivative_modes >= 0 ? app_.derivative_modes : std::min(app_.modes, 6);
-    basis_ = fem::ritz_basis(*app_.model, app_.fixed_dofs, {app_.modes, true, green_ ? derivatives : 0}, loads);
-    modal_.emplace(*app_.model, basis_.Phi, green_);
-    ffi_ = ffi_.projected(basis_.Phi);
-    const int r = modal_->size();
-    free_.resize(r);
-    for (int i = 0; i < r; ++i) free_[i] = i;
-    K_free_ = modal_->linear_stiffness().sparseView(0.0, 0.0);
-    M_free_ = ffi_.M();
-    // A dense r x r elastic block: its pattern stores every entry, column-major.
-    block_.emplace(Eigen::SparseMatrix<double>(Eigen::MatrixXd::Ones(r, r).sparseView()), free_);
-    M_vals_ = block_->aligned(ffi_.M());
-    K_vals_ = block_->aligned(K_free_);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Mij_vals_[3 * i + j] = block_->aligned(ffi_.Mij(i, j));
-  } else if (flexible_) {
-    free_ = fem::free_dofs(app_.model->num_dofs(), app_.fixed_dofs);
-    K_free_ = fem::restrict(app_.model->stiffness(), free_);
-    M_free_ = fem::restrict(ffi_.M(), free_);
-    // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
-    block_.emplace(app_.model->stiffness(), free_);
-    M_vals_ = block_->aligned(ffi_.M());
-    K_vals_ = block_->aligned(app_.model->stiffness());
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Mij_vals_[3 * i + j] = block_->aligned(ffi_.Mij(i, j));
   }
   nq_ = nv_ = 0;
   if (base_.free) nq_ += 7, nv_ += 6;
   if (!hinge_.driven) iq_theta_ = nq_++, iv_theta_ = nv_++;
-  if (!free_.empty()) {
+  if (num_elastic() > 0) {
     iq_d_ = nq_, iv_d_ = nv_;
     nq_ += num_elastic();
     nv_ += num_elastic();
   }
-}
-
-Eigen::VectorXd HingedSystem::full(const Eigen::VectorXd& d_free) const {
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(ffi_.num_dofs());
-  for (int k = 0; k < num_elastic(); ++k) d(free_[k]) = d_free(k);
-  return d;
 }
 
 Eigen::VectorXd HingedSystem::initial_positions() const {
@@ -136,10 +93,10 @@ HingedSystem::Kin HingedSystem::kinematics(const Eigen::VectorXd& q, const Eigen
     k.rate = v(iv_theta_);
     if (a) k.accel = (*a)(iv_theta_);
   }
-  const int n = ffi_.num_dofs();
-  k.d = iq_d_ >= 0 ? full(q.segment(iq_d_, num_elastic())) : Eigen::VectorXd::Zero(n);
-  k.dd = iv_d_ >= 0 ? full(v.segment(iv_d_, num_elastic())) : Eigen::VectorXd::Zero(n);
-  k.ddd = (a && iv_d_ >= 0) ? full(a->segment(iv_d_, num_elastic())) : Eigen::VectorXd::Zero(n);
+  const int n = ffi().num_dofs();
+  k.d = iq_d_ >= 0 ? app_->full(q.segment(iq_d_, num_elastic())) : Eigen::VectorXd::Zero(n);
+  k.dd = iv_d_ >= 0 ? app_->full(v.segment(iv_d_, num_elastic())) : Eigen::VectorXd::Zero(n);
+  k.ddd = (a && iv_d_ >= 0) ? app_->full(a->segment(iv_d_, num_elastic())) : Eigen::VectorXd::Zero(n);
 
   const Eigen::Vector3d& ax = hinge_.axis_B;
   const Eigen::Vector3d& p = hinge_.point_B;
@@ -159,7 +116,7 @@ HingedSystem::Kin HingedSystem::kinematics(const Eigen::VectorXd& q, const Eigen
 Eigen::VectorXd HingedSystem::inertial_residual(const Kin& k, const Eigen::VectorXd& q) const {
   (void)q;
   body::FloatingFrameInertia::InertialForces f;
-  if (flexible_) f = ffi_.inertial_forces(k.a_E, k.al_E, k.w_E, k.d, k.dd, k.ddd);
+  if (flexible_) f = ffi().inertial_forces(k.a_E, k.al_E, k.w_E, k.d, k.dd, k.ddd);
   else f.F.setZero(), f.M.setZero();
   const auto fit = frame_rigid_.inertial_forces(k.a_E, k.al_E, k.w_E);
   // On the appendage and its fitting, about E's origin, B axes.
@@ -176,7 +133,7 @@ Eigen::VectorXd HingedSystem::inertial_residual(const Kin& k, const Eigen::Vecto
                    hinge_.c_theta * k.rate;
     if (hinge_.lock) r(iv_theta_) -= joint::lock_load(*hinge_.lock, lock_history_, k.theta, k.rate).torque;
   }
-  for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) = f.Q(free_[i]);
+  for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) = f.Q(app_->free_dofs()[i]);
   return r;
 }
 
@@ -184,50 +141,19 @@ Eigen::VectorXd HingedSystem::residual(const Eigen::VectorXd& q, const Eigen::Ve
                                        const Eigen::VectorXd& a, double t) const {
   const Kin k = kinematics(q, v, &a, t);
   Eigen::VectorXd r = inertial_residual(k, q);
-  if (iv_d_ >= 0 && modal_ && green_) {
-    // Reduced Green strain: the polynomial force and, for damping, its exact tangent.
-    const auto eta = q.segment(iq_d_, num_elastic());
-    const auto rate = v.segment(iv_d_, num_elastic());
-    Eigen::VectorXd f;
-    Eigen::MatrixXd T;
-    modal_->evaluate(eta, &f, app_.beta_K > 0 ? &T : nullptr);
-    r.segment(iv_d_, num_elastic()) += f + app_.alpha_M * (M_free_ * rate);
-    if (app_.beta_K > 0) r.segment(iv_d_, num_elastic()) += app_.beta_K * (T * rate);
-  } else if (iv_d_ >= 0) {
-    if (app_.fidelity == Fidelity::kNonlinear) {
-      Eigen::VectorXd f_int;
-      app_.model->internal_force(k.d, &f_int, nullptr);  // Eq. 14 (Green strain)
-      for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) += f_int(free_[i]);
-    } else {
-      r.segment(iv_d_, num_elastic()) += K_free_ * q.segment(iq_d_, num_elastic());
-    }
-    // Rayleigh damping. The stiffness-proportional part acts on the strain rate: beta_K K_L d'
-    // for linear strain, beta_K K_T(d) d' = beta_K d/dt f_int(d) for Green strain (K_L d' would
-    // damp the in-plane motion that large, inextensional bending needs, and stiffen the plate).
-    const auto dv = v.segment(iv_d_, num_elastic());
-    if (app_.alpha_M > 0) r.segment(iv_d_, num_elastic()) += app_.alpha_M * (M_free_ * dv);
-    if (app_.fidelity == Fidelity::kNonlinear) {
-      const double speed = k.dd.lpNorm<Eigen::Infinity>();
-      if (app_.beta_K > 0 && speed > 0) {  // K_T(d) d' by a central difference of f_int along d'
-        const double eps = 1e-6 / speed;
-        Eigen::VectorXd fp, fm;
-        app_.model->internal_force(k.d + eps * k.dd, &fp, nullptr);
-        app_.model->internal_force(k.d - eps * k.dd, &fm, nullptr);
-        for (int i = 0; i < num_elastic(); ++i) r(iv_d_ + i) += app_.beta_K * (fp(free_[i]) - fm(free_[i])) / (2 * eps);
-      }
-    } else if (app_.beta_K > 0) {
-      r.segment(iv_d_, num_elastic()) += app_.beta_K * (K_free_ * dv);
-    }
-  }
+  if (iv_d_ >= 0)  // the internal force and Rayleigh damping (body/flexible_body.hpp)
+    app_->add_elastic_force(q.segment(iq_d_, num_elastic()), v.segment(iv_d_, num_elastic()), k.d, k.dd,
+                            r.segment(iv_d_, num_elastic()));
   return r;
 }
 
 Eigen::Matrix<double, 6, 1> HingedSystem::frame_momentum(const Kin& k) const {
   Eigen::Matrix<double, 6, 1> p = frame_rigid_.momentum(k.V_E, k.w_E);
   if (!flexible_) return p;
-  const Eigen::Vector3d s = ffi_.first_moment(k.d);
-  p.head<3>() += ffi_.mass() * k.V_E + k.w_E.cross(s) + ffi_.S1() * k.dd;
-  p.tail<3>() += s.cross(k.V_E) + ffi_.inertia_tensor(k.d) * k.w_E + ffi_.rotation_coupling(k.d) * k.dd;
+  const body::FloatingFrameInertia& ffi = this->ffi();
+  const Eigen::Vector3d s = ffi.first_moment(k.d);
+  p.head<3>() += ffi.mass() * k.V_E + k.w_E.cross(s) + ffi.S1() * k.dd;
+  p.tail<3>() += s.cross(k.V_E) + ffi.inertia_tensor(k.d) * k.w_E + ffi.rotation_coupling(k.d) * k.dd;
   return p;
 }
 
@@ -282,14 +208,9 @@ HingedSystem::Outputs HingedSystem::outputs(const Eigen::VectorXd& q, const Eige
   o.P_base_W = m.P_base_W;
   o.kinetic = (base_.free ? base_.inertia.kinetic_energy(k.V_B, k.w_B) : 0.0) +
               frame_rigid_.kinetic_energy(k.V_E, k.w_E) +
-              (flexible_ ? ffi_.kinetic_energy(k.V_E, k.w_E, k.d, k.dd) : 0.0);
+              (flexible_ ? ffi().kinetic_energy(k.V_E, k.w_E, k.d, k.dd) : 0.0);
   o.potential = -hinge_.tau0 * k.theta + 0.5 * hinge_.k_theta * k.theta * k.theta;
-  if (iq_d_ >= 0) {
-    const Eigen::VectorXd df = q.segment(iq_d_, num_elastic());
-    o.potential += modal_ && green_ ? modal_->strain_energy(df)
-                   : green_         ? app_.model->strain_energy(k.d)
-                                    : 0.5 * df.dot(K_free_ * df);
-  }
+  if (iq_d_ >= 0) o.potential += app_->strain_energy(q.segment(iq_d_, num_elastic()), k.d);
   return o;
 }
 

@@ -20,20 +20,16 @@
 #include <optional>
 #include <vector>
 
-#include "deployfx/body/floating_frame_inertia.hpp"
+#include "deployfx/body/flexible_body.hpp"
 #include "deployfx/body/rigid_inertia.hpp"
-#include "deployfx/fem/free_block.hpp"
-#include "deployfx/fem/modal_internal_force.hpp"
-#include "deployfx/fem/ritz_basis.hpp"
-#include "deployfx/fem/shell_model.hpp"
 #include "deployfx/integrate/second_order_system.hpp"
 #include "deployfx/joint/hinge_lock.hpp"
 
 namespace deployfx::system {
 
-/// The appendage's model: one rigid body; finite elements with linear or Green strain (Eq. 14);
-/// or the same two reduced to a Ritz basis (fem/ritz_basis.hpp) of a few modes.
-enum class Fidelity { kRigid, kLinear, kNonlinear, kReducedLinear, kReducedNonlinear };
+/// The appendage's model and description (body/flexible_body.hpp), under their historical names.
+using body::AppendageSpec;
+using body::Fidelity;
 
 struct BaseSpec {
   bool free = true;
@@ -65,32 +61,16 @@ struct HingeSpec {
   std::optional<joint::HingeLockSpec> lock;
 };
 
-struct AppendageSpec {
-  std::shared_ptr<const fem::ShellModel> model;  ///< nodes in E (m)
-  std::vector<int> fixed_dofs;                   ///< clamped to E (the root edge)
-  Fidelity fidelity = Fidelity::kNonlinear;
-  /// Structural (Rayleigh) damping of the elastic dofs, C = alpha_M L_c + beta_K K (1/s and s):
-  /// a modal damping ratio (alpha_M / omega + beta_K omega) / 2. K is K_L for linear strain and
-  /// the tangent K_T(d) for Green strain (damping the strain rate, so rigid motion is undamped).
-  double alpha_M = 0, beta_K = 0;
-  /// Reduced fidelities: the clamped vibration modes kept; the basis adds the static corrections
-  /// and, for Green strain, the modal derivatives of every pair among the first
-  /// `derivative_modes` modes (-1: min(modes, 6); fewer lets the bending stretch the mid-surface,
-  /// a spurious stiffening: docs/engine-design.md).
-  int modes = 10;
-  int derivative_modes = -1;
-};
-
 class HingedSystem final : public integrate::SecondOrderSystem {
  public:
   HingedSystem(BaseSpec base, HingeSpec hinge, AppendageSpec appendage);
 
   int num_positions() const override { return nq_; }
   int num_velocities() const override { return nv_; }
-  int num_elastic() const { return static_cast<int>(free_.size()); }
+  int num_elastic() const { return app_->num_elastic(); }
   /// The reduced model's basis (all mesh dofs x elastic coordinates; empty for a full model):
   /// mesh displacements d = basis() eta.
-  const fem::RitzBasis& basis() const { return basis_; }
+  const fem::RitzBasis& basis() const { return app_->basis(); }
   Eigen::VectorXd retract(const Eigen::VectorXd& q, const Eigen::VectorXd& dq) const override;
   Eigen::VectorXd residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                            const Eigen::VectorXd& a, double t) const override;
@@ -139,7 +119,6 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   };
   Kin kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd* a,
                  double t) const;
-  Eigen::VectorXd full(const Eigen::VectorXd& d_free) const;
   // r without the elastic internal force (which depends on d only).
   Eigen::VectorXd inertial_residual(const Kin& k, const Eigen::VectorXd& q) const;
   // E's momentum (appendage and fitting) about E's origin, E axes: (p_E, h_E).
@@ -157,23 +136,14 @@ class HingedSystem final : public integrate::SecondOrderSystem {
 
   BaseSpec base_;
   HingeSpec hinge_;
-  AppendageSpec app_;
-  body::FloatingFrameInertia ffi_;
+  // The appendage, compiled (shape integrals, basis, elastic force; body/flexible_body.hpp).
+  std::optional<body::FlexibleBody> app_;
+  const body::FloatingFrameInertia& ffi() const { return app_->inertia(); }
   // Everything rigid in E: the fitting, plus the appendage itself when its fidelity is rigid
-  // (then the shape integrals are constant and ffi_ is not evaluated per step).
+  // (then the shape integrals are constant and ffi() is not evaluated per step).
   body::RigidInertia frame_rigid_;
   bool flexible_ = false;
   bool green_ = false;  // Green strain (full or reduced)
-  fem::RitzBasis basis_;
-  std::optional<fem::ModalInternalForce> modal_;  // reduced fidelities
-  std::vector<int> free_;
-  Eigen::SparseMatrix<double> K_free_;  // K_L on the free dofs
-  Eigen::SparseMatrix<double> M_free_;  // L_c on the free dofs
-  // The elastic block of the Newton matrix on the mesh's node-block pattern, with the entries of
-  // L_c, K_L and the nine M_ij aligned to it (a combination is a sum of value arrays).
-  std::optional<fem::FreeBlock> block_;
-  Eigen::VectorXd M_vals_, K_vals_;
-  std::array<Eigen::VectorXd, 9> Mij_vals_;
   // The lock's memory (latch, contact onsets): a run's data, changed only by accept(). One run
   // at a time per system: runs hold run_mutex() (see the bindings).
   mutable joint::LockHistory lock_history_;

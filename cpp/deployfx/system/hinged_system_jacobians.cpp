@@ -93,7 +93,7 @@ integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, 
   Eigen::Matrix<double, 6, 1> fE = frame_rigid_.inertial_forces(k.a_E, k.al_E, k.w_E);
   body::FloatingFrameInertia::ForceJacobians fj;
   if (flexible_) {
-    fj = ffi_.inertial_force_jacobians(k.a_E, k.al_E, k.w_E, k.d, k.dd, k.ddd);
+    fj = ffi().inertial_force_jacobians(k.a_E, k.al_E, k.w_E, k.d, k.dd, k.ddd);
     G += fj.FM_k;
     fE.head<3>() += fj.f.F;
     fE.tail<3>() += fj.f.M;
@@ -137,38 +137,28 @@ integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, 
     S.E.resize(0, 0);
     return S;
   }
-  for (int i = 0; i < nf; ++i) S.C.row(i) = fj.Q_k.row(free_[i]) * D;
+  const std::vector<int>& free = app_->free_dofs();
+  for (int i = 0; i < nf; ++i) S.C.row(i) = fj.Q_k.row(free[i]) * D;
 
   // Elastic block: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) + G_w(w) + K_T), with
   // G_y(x) = sum_i x_j M_ik - x_k M_ij (i, j, k cyclic) and G_w(w) = sum w_i w_l M_il - |w|^2 M_ii.
   const Eigen::Vector3d& w = k.w_E;
-  Eigen::VectorXd vals = c_a * M_vals_;
+  Eigen::VectorXd vals = c_a * app_->mass_values();
   const Eigen::Vector3d x = 2 * c_v * w + c_q * k.al_E;
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, l = (i + 2) % 3;
-    vals += x(j) * Mij_vals_[3 * i + l] - x(l) * Mij_vals_[3 * i + j];
+    vals += x(j) * app_->Mij_values(i, l) - x(l) * app_->Mij_values(i, j);
     for (int m = 0; m < 3; ++m)
-      vals += c_q * (w(i) * w(m) - (i == m ? w.squaredNorm() : 0.0)) * Mij_vals_[3 * i + m];
+      vals += c_q * (w(i) * w(m) - (i == m ? w.squaredNorm() : 0.0)) * app_->Mij_values(i, m);
   }
-  if (modal_ && green_) {
-    Eigen::MatrixXd T;  // dense, column-major: the block's value order
-    modal_->evaluate(k.d, nullptr, &T);
-    vals += (c_q + c_v * app_.beta_K) * Eigen::Map<const Eigen::VectorXd>(T.data(), T.size());
-  } else if (app_.fidelity == Fidelity::kNonlinear) {
-    Eigen::SparseMatrix<double> KT;
-    app_.model->internal_force(k.d, nullptr, &KT);  // K_L + K_L* + K_s, Eq. 19, 22, 23
-    block_->add(KT, c_q + c_v * app_.beta_K, vals);  // and the damping beta_K K_T (its d-derivative dropped)
-  } else {
-    vals += (c_q + c_v * app_.beta_K) * K_vals_;
-  }
-  vals += c_v * app_.alpha_M * M_vals_;  // Rayleigh damping
-  S.E = block_->with_values(vals);
+  app_->add_elastic_block(k.d, c_v, c_q, vals);  // K_T (or K_L) and Rayleigh damping
+  S.E = app_->block().with_values(vals);
 
   // Elastic columns of the border rows: the dd''-, dd'- and d-derivatives of (F, M), projected.
   const Eigen::Matrix<double, 6, Eigen::Dynamic> FMe = c_a * fj.FM_ddd + c_v * fj.FM_dd + c_q * fj.FM_d;
   const Eigen::Matrix<double, 3, Eigen::Dynamic> FB = k.R_BE * FMe.topRows<3>(), MB = k.R_BE * FMe.bottomRows<3>();
   for (int c = 0; c < nf; ++c) {
-    const int e = free_[c];
+    const int e = free[c];
     const Eigen::Vector3d Fe = FB.col(e), Me = MB.col(e);
     if (base_.free) {
       S.B.block<3, 1>(0, c) += k.R_WB * Fe;
@@ -193,16 +183,16 @@ Eigen::MatrixXd HingedSystem::momentum_jacobian(const Eigen::VectorXd& q, const 
   Eigen::Matrix<double, 6, 1> pE;
   Eigen::Matrix<double, 3, Eigen::Dynamic> H;
   if (flexible_) {
-    const Eigen::Vector3d s = ffi_.first_moment(k.d);
-    ME.topLeftCorner<3, 3>() += ffi_.mass() * Eigen::Matrix3d::Identity();
+    const Eigen::Vector3d s = ffi().first_moment(k.d);
+    ME.topLeftCorner<3, 3>() += ffi().mass() * Eigen::Matrix3d::Identity();
     ME.block<3, 3>(0, 3) -= skew(s);
     ME.block<3, 3>(3, 0) += skew(s);
-    ME.bottomRightCorner<3, 3>() += ffi_.inertia_tensor(k.d);
-    H = ffi_.rotation_coupling(k.d);
+    ME.bottomRightCorner<3, 3>() += ffi().inertia_tensor(k.d);
+    H = ffi().rotation_coupling(k.d);
   }
   pE << k.V_E, k.w_E;
   pE = (ME * pE).eval();
-  if (flexible_) pE += (Eigen::Matrix<double, 6, 1>() << ffi_.S1() * k.dd, H * k.dd).finished();
+  if (flexible_) pE += (Eigen::Matrix<double, 6, 1>() << ffi().S1() * k.dd, H * k.dd).finished();
   Eigen::Matrix<double, 6, 6> X = Eigen::Matrix<double, 6, 6>::Zero();
   X.topLeftCorner<3, 3>() = k.R_BE;
   X.bottomLeftCorner<3, 3>() = skew(p) * k.R_BE;
@@ -239,15 +229,15 @@ Eigen::MatrixXd HingedSystem::momentum_jacobian(const Eigen::VectorXd& q, const 
   if (!nf) return J;
   // Elastic columns: d(p_E, h_E)/d(dd) = (S1, H(d)); d(p_E, h_E)/dd = (w~ S1, -V~ S1 + dJ w/dd + dH dd'/dd).
   const Eigen::Vector3d r_O = k.r_W + k.R_WB * p;
-  const auto& S1 = ffi_.S1();
+  const auto& S1 = ffi().S1();
   const Eigen::MatrixXd dp = c_v * S1 + c_q * skew(k.w_E) * S1;
-  const Eigen::MatrixXd dh = c_v * H + c_q * (-skew(k.V_E) * S1 + ffi_.inertia_tensor_jacobian(k.d, k.w_E) +
-                                              ffi_.rotation_coupling_jacobian(k.dd));
+  const Eigen::MatrixXd dh = c_v * H + c_q * (-skew(k.V_E) * S1 + ffi().inertia_tensor_jacobian(k.d, k.w_E) +
+                                              ffi().rotation_coupling_jacobian(k.dd));
   const Eigen::MatrixXd dP_W = k.R_WE * dp;
   const Eigen::MatrixXd dH_W = skew(r_O) * dP_W + k.R_WE * dh;
   for (int c = 0; c < nf; ++c) {
-    J.block<3, 1>(0, nb + c) = dP_W.col(free_[c]);
-    J.block<3, 1>(3, nb + c) = dH_W.col(free_[c]);
+    J.block<3, 1>(0, nb + c) = dP_W.col(app_->free_dofs()[c]);
+    J.block<3, 1>(3, nb + c) = dH_W.col(app_->free_dofs()[c]);
   }
   return J;
 }

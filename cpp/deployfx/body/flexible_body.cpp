@@ -1,0 +1,164 @@
+#include "deployfx/body/flexible_body.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "deployfx/fem/constrained_solve.hpp"
+#include "deployfx/math/check.hpp"
+
+namespace deployfx::body {
+
+Fidelity fidelity_from_name(const std::string& value, const std::string& name) {
+  if (value == "rigid") return Fidelity::kRigid;
+  if (value == "linear") return Fidelity::kLinear;
+  if (value == "nonlinear") return Fidelity::kNonlinear;
+  if (value == "reduced-linear") return Fidelity::kReducedLinear;
+  if (value == "reduced-nonlinear") return Fidelity::kReducedNonlinear;
+  throw std::invalid_argument(name + " = '" + value +
+                              "' is invalid: must be 'rigid', 'linear', 'nonlinear', 'reduced-linear' or "
+                              "'reduced-nonlinear'");
+}
+
+FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Eigen::MatrixXd& extra_loads)
+    : spec_(std::move(spec)),
+      ffi_(spec_.model ? *spec_.model : throw std::invalid_argument(name + ".model is missing")) {
+  if (!(spec_.alpha_M >= 0 && std::isfinite(spec_.alpha_M)))
+    throw_out_of_range(name + ".alpha_M", spec_.alpha_M, "finite and >= 0 (1/s)");
+  if (!(spec_.beta_K >= 0 && std::isfinite(spec_.beta_K)))
+    throw_out_of_range(name + ".beta_K", spec_.beta_K, "finite and >= 0 (s)");
+  green_ = spec_.fidelity == Fidelity::kNonlinear || spec_.fidelity == Fidelity::kReducedNonlinear;
+  const fem::ShellModel& model = *spec_.model;
+  if (spec_.fidelity == Fidelity::kReducedLinear || spec_.fidelity == Fidelity::kReducedNonlinear) {
+    const int nfree = static_cast<int>(fem::free_dofs(model.num_dofs(), spec_.fixed_dofs).size());
+    if (!(spec_.modes >= 1 && spec_.modes <= nfree))
+      throw_out_of_range(name + ".modes", spec_.modes, "in [1, " + std::to_string(nfree) + "] (the free dofs)");
+    if (extra_loads.cols() > 0 && extra_loads.rows() != ffi_.num_dofs())
+      throw std::invalid_argument(name + ": extra_loads must have one row per mesh dof (" +
+                                  std::to_string(ffi_.num_dofs()) + "), got " + std::to_string(extra_loads.rows()));
+    // The loads E's acceleration puts on the appendage, int rho N^T a and int rho N^T (al x P):
+    // S1^T and H(0)^T (Eq. 28); then the caller's.
+    Eigen::MatrixXd loads(ffi_.num_dofs(), 6 + extra_loads.cols());
+    loads.leftCols<6>() << ffi_.S1().transpose(),
+        ffi_.rotation_coupling(Eigen::VectorXd::Zero(ffi_.num_dofs())).transpose();
+    if (extra_loads.cols() > 0) loads.rightCols(extra_loads.cols()) = extra_loads;
+    if (!(spec_.derivative_modes >= -1 && spec_.derivative_modes <= spec_.modes))
+      throw_out_of_range(name + ".derivative_modes", spec_.derivative_modes, "in [0, modes] or -1 (automatic)");
+    const int derivatives = spec_.derivative_modes >= 0 ? spec_.derivative_modes : std::min(spec_.modes, 6);
+    basis_ = fem::ritz_basis(model, spec_.fixed_dofs, {spec_.modes, true, green_ ? derivatives : 0}, loads);
+    modal_.emplace(model, basis_.Phi, green_);
+    ffi_ = ffi_.projected(basis_.Phi);
+    const int r = modal_->size();
+    free_.resize(r);
+    for (int i = 0; i < r; ++i) free_[i] = i;
+    K_free_ = modal_->linear_stiffness().sparseView(0.0, 0.0);
+    M_free_ = ffi_.M();
+    // A dense r x r elastic block: its pattern stores every entry, column-major.
+    block_.emplace(Eigen::SparseMatrix<double>(Eigen::MatrixXd::Ones(r, r).sparseView()), free_);
+    M_vals_ = block_->aligned(ffi_.M());
+    K_vals_ = block_->aligned(K_free_);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Mij_vals_[3 * i + j] = block_->aligned(ffi_.Mij(i, j));
+  } else if (flexible()) {
+    free_ = fem::free_dofs(model.num_dofs(), spec_.fixed_dofs);
+    K_free_ = fem::restrict(model.stiffness(), free_);
+    M_free_ = fem::restrict(ffi_.M(), free_);
+    // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
+    block_.emplace(model.stiffness(), free_);
+    M_vals_ = block_->aligned(ffi_.M());
+    K_vals_ = block_->aligned(model.stiffness());
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Mij_vals_[3 * i + j] = block_->aligned(ffi_.Mij(i, j));
+  }
+}
+
+Eigen::VectorXd FlexibleBody::full(const Eigen::VectorXd& d_free) const {
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(ffi_.num_dofs());
+  for (int k = 0; k < num_elastic(); ++k) d(free_[k]) = d_free(k);
+  return d;
+}
+
+Eigen::MatrixXd FlexibleBody::mesh_rows(const std::vector<int>& mesh_dofs) const {
+  const int n = static_cast<int>(mesh_dofs.size());
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, num_elastic());
+  for (int i = 0; i < n; ++i) {
+    const int dof = mesh_dofs[i];
+    if (dof < 0 || dof >= spec_.model->num_dofs()) throw std::out_of_range("mesh_rows: dof out of range");
+    if (reduced()) {
+      out.row(i) = basis_.Phi.row(dof);
+    } else {
+      const auto it = std::lower_bound(free_.begin(), free_.end(), dof);
+      if (it != free_.end() && *it == dof) out(i, it - free_.begin()) = 1.0;
+    }
+  }
+  return out;
+}
+
+void FlexibleBody::add_elastic_force(const Eigen::VectorXd& q_el, const Eigen::VectorXd& v_el,
+                                     const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
+                                     Eigen::Ref<Eigen::VectorXd> r) const {
+  const int n = num_elastic();
+  if (n == 0) return;
+  if (modal_ && green_) {
+    // Reduced Green strain: the polynomial force and, for damping, its exact tangent.
+    Eigen::VectorXd f;
+    Eigen::MatrixXd T;
+    modal_->evaluate(q_el, &f, spec_.beta_K > 0 ? &T : nullptr);
+    r += f + spec_.alpha_M * (M_free_ * v_el);
+    if (spec_.beta_K > 0) r += spec_.beta_K * (T * v_el);
+    return;
+  }
+  if (spec_.fidelity == Fidelity::kNonlinear) {
+    Eigen::VectorXd f_int;
+    spec_.model->internal_force(d, &f_int, nullptr);  // Eq. 14 (Green strain)
+    for (int i = 0; i < n; ++i) r(i) += f_int(free_[i]);
+  } else {
+    r += K_free_ * q_el;
+  }
+  // Rayleigh damping. The stiffness-proportional part acts on the strain rate: beta_K K_L d'
+  // for linear strain, beta_K K_T(d) d' = beta_K d/dt f_int(d) for Green strain (K_L d' would
+  // damp the in-plane motion that large, inextensional bending needs, and stiffen the plate).
+  if (spec_.alpha_M > 0) r += spec_.alpha_M * (M_free_ * v_el);
+  if (spec_.fidelity == Fidelity::kNonlinear) {
+    const double speed = dd.lpNorm<Eigen::Infinity>();
+    if (spec_.beta_K > 0 && speed > 0) {  // K_T(d) d' by a central difference of f_int along d'
+      const double eps = 1e-6 / speed;
+      Eigen::VectorXd fp, fm;
+      spec_.model->internal_force(d + eps * dd, &fp, nullptr);
+      spec_.model->internal_force(d - eps * dd, &fm, nullptr);
+      for (int i = 0; i < n; ++i) r(i) += spec_.beta_K * (fp(free_[i]) - fm(free_[i])) / (2 * eps);
+    }
+  } else if (spec_.beta_K > 0) {
+    r += spec_.beta_K * (K_free_ * v_el);
+  }
+}
+
+void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::VectorXd& vals) const {
+  if (modal_ && green_) {
+    Eigen::MatrixXd T;  // dense, column-major: the block's value order
+    modal_->evaluate(d, nullptr, &T);
+    vals += (c_q + c_v * spec_.beta_K) * Eigen::Map<const Eigen::VectorXd>(T.data(), T.size());
+  } else if (spec_.fidelity == Fidelity::kNonlinear) {
+    Eigen::SparseMatrix<double> KT;
+    spec_.model->internal_force(d, nullptr, &KT);      // K_L + K_L* + K_s, Eq. 19, 22, 23
+    block_->add(KT, c_q + c_v * spec_.beta_K, vals);  // and the damping beta_K K_T (its d-derivative dropped)
+  } else {
+    vals += (c_q + c_v * spec_.beta_K) * K_vals_;
+  }
+  vals += c_v * spec_.alpha_M * M_vals_;  // Rayleigh damping
+}
+
+Eigen::MatrixXd FlexibleBody::elastic_tangent(const Eigen::VectorXd& q_el, double c_v, double c_q) const {
+  Eigen::VectorXd vals = Eigen::VectorXd::Zero(block_->nonzeros());
+  add_elastic_block(full(q_el), c_v, c_q, vals);
+  return Eigen::MatrixXd(block_->with_values(vals));
+}
+
+double FlexibleBody::strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d) const {
+  if (num_elastic() == 0) return 0.0;
+  return modal_ && green_ ? modal_->strain_energy(q_el)
+         : green_         ? spec_.model->strain_energy(d)
+                          : 0.5 * q_el.dot(K_free_ * q_el);
+}
+
+}  // namespace deployfx::body

@@ -1,0 +1,119 @@
+#pragma once
+// A flexible appendage described in its floating frame E (root edge clamped to E), compiled once:
+// the shape integrals (FloatingFrameInertia, You et al. 2016 Eq. 9 and 28), for the reduced
+// fidelities the Ritz basis (fem/ritz_basis.hpp) with the integrals projected on it and the
+// exact modal internal force (fem/modal_internal_force.hpp), the stiffness and mass on the
+// elastic coordinates, and Rayleigh damping. Shared by the systems that carry flexible bodies
+// (system/hinged_system: one hinge; system/hinge_chain: a chain of hinges). Immutable.
+//
+// Elastic coordinates: the free mesh dofs d (full fidelities) or the Ritz coordinates eta,
+// d = Phi eta (reduced). inertia() works on "its dofs": all mesh dofs for a full model (full()
+// scatters the free ones into them), the Ritz coordinates for a reduced one (full() is then the
+// identity). The elastic force on them is (docs/engine-design.md, "Fidelity", "Damping")
+//   f_int(d) + alpha_M L_c d' + beta_K K(d) d',
+// f_int = K_L d (linear strain) or Green strain's force (Eq. 14; reduced: the exact cubic),
+// K(d) = K_L or the tangent K_T(d) (damping the strain rate, so rigid motion is undamped).
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deployfx/body/floating_frame_inertia.hpp"
+#include "deployfx/fem/free_block.hpp"
+#include "deployfx/fem/modal_internal_force.hpp"
+#include "deployfx/fem/ritz_basis.hpp"
+#include "deployfx/fem/shell_model.hpp"
+
+namespace deployfx::body {
+
+/// The appendage's model: one rigid body; finite elements with linear or Green strain (Eq. 14);
+/// or the same two reduced to a Ritz basis (fem/ritz_basis.hpp) of a few modes.
+enum class Fidelity { kRigid, kLinear, kNonlinear, kReducedLinear, kReducedNonlinear };
+
+/// The fidelity named "rigid", "linear", "nonlinear", "reduced-linear" or "reduced-nonlinear";
+/// std::invalid_argument naming `name` and the allowed values otherwise.
+Fidelity fidelity_from_name(const std::string& value, const std::string& name = "fidelity");
+
+struct AppendageSpec {
+  std::shared_ptr<const fem::ShellModel> model;  ///< nodes in E (m)
+  std::vector<int> fixed_dofs;                   ///< clamped to E (the root edge)
+  Fidelity fidelity = Fidelity::kNonlinear;
+  /// Structural (Rayleigh) damping of the elastic dofs, C = alpha_M L_c + beta_K K (1/s and s):
+  /// a modal damping ratio (alpha_M / omega + beta_K omega) / 2. K is K_L for linear strain and
+  /// the tangent K_T(d) for Green strain (damping the strain rate, so rigid motion is undamped).
+  double alpha_M = 0, beta_K = 0;
+  /// Reduced fidelities: the clamped vibration modes kept; the basis adds the static corrections
+  /// and, for Green strain, the modal derivatives of every pair among the first
+  /// `derivative_modes` modes (-1: min(modes, 6); fewer lets the bending stretch the mid-surface,
+  /// a spurious stiffening: docs/engine-design.md).
+  int modes = 10;
+  int derivative_modes = -1;
+};
+
+class FlexibleBody {
+ public:
+  /// Checks the spec (std::invalid_argument naming `<name>.model`, `<name>.alpha_M`,
+  /// `<name>.beta_K`, `<name>.modes`, `<name>.derivative_modes`) and compiles it.
+  /// `extra_loads` (mesh dofs x m, may have no columns): further load shapes whose static
+  /// responses K^-1 f join a reduced basis, beside those of E's own acceleration (S1^T, H(0)^T,
+  /// Eq. 28): e.g. unit loads where a child body is attached (system/chain_attachment.hpp).
+  FlexibleBody(AppendageSpec spec, const std::string& name,
+               const Eigen::MatrixXd& extra_loads = Eigen::MatrixXd());
+
+  const AppendageSpec& spec() const { return spec_; }
+  Fidelity fidelity() const { return spec_.fidelity; }
+  bool flexible() const { return spec_.fidelity != Fidelity::kRigid; }
+  bool green() const { return green_; }  ///< Green strain (full or reduced)
+  bool reduced() const { return modal_.has_value(); }
+  /// The elastic coordinates (0 for a rigid appendage).
+  int num_elastic() const { return static_cast<int>(free_.size()); }
+  /// The shape integrals on its dofs (projected on the basis for a reduced model).
+  const FloatingFrameInertia& inertia() const { return ffi_; }
+  /// Reduced: mesh displacements d = basis().Phi eta (empty for a full model).
+  const fem::RitzBasis& basis() const { return basis_; }
+  /// The elastic coordinates among inertia()'s dofs.
+  const std::vector<int>& free_dofs() const { return free_; }
+  /// inertia()'s dofs from the elastic coordinates (zero on the clamped ones).
+  Eigen::VectorXd full(const Eigen::VectorXd& d_free) const;
+  /// The displacement of the given mesh dofs per elastic coordinate, (rows.size() x num_elastic()):
+  /// rows of the basis (reduced) or a selection (full; zero rows for clamped dofs).
+  Eigen::MatrixXd mesh_rows(const std::vector<int>& mesh_dofs) const;
+
+  /// Adds the elastic force (header) on the elastic coordinates q_el at rates v_el to r
+  /// (size num_elastic()); d and dd are full(q_el) and full(v_el).
+  void add_elastic_force(const Eigen::VectorXd& q_el, const Eigen::VectorXd& v_el, const Eigen::VectorXd& d,
+                         const Eigen::VectorXd& dd, Eigen::Ref<Eigen::VectorXd> r) const;
+  /// Adds c_q d/dq + c_v d/dv of the elastic force at d = full(q_el) to values aligned with
+  /// block() (the d-derivative of the damping beta_K K_T(d) d' dropped).
+  void add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::VectorXd& vals) const;
+  /// The same as a dense (num_elastic() x num_elastic()) matrix.
+  Eigen::MatrixXd elastic_tangent(const Eigen::VectorXd& q_el, double c_v, double c_q) const;
+  /// Strain energy at q_el (d = full(q_el)), J.
+  double strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d) const;
+
+  /// The elastic block of a Newton matrix on the mesh's node-block pattern (a dense pattern for a
+  /// reduced model), with L_c, K_L and the nine M_ij aligned to it: a combination of them is a
+  /// sum of value arrays (fem/free_block.hpp). Absent for a rigid appendage.
+  const fem::FreeBlock& block() const { return *block_; }
+  const Eigen::VectorXd& mass_values() const { return M_vals_; }
+  const Eigen::VectorXd& Mij_values(int i, int j) const { return Mij_vals_[3 * i + j]; }
+  const Eigen::SparseMatrix<double>& stiffness() const { return K_free_; }  ///< K_L, free
+  const Eigen::SparseMatrix<double>& mass() const { return M_free_; }       ///< L_c, free
+
+ private:
+  AppendageSpec spec_;
+  FloatingFrameInertia ffi_;
+  bool green_ = false;
+  fem::RitzBasis basis_;
+  std::optional<fem::ModalInternalForce> modal_;  // reduced fidelities
+  std::vector<int> free_;
+  Eigen::SparseMatrix<double> K_free_, M_free_;
+  std::optional<fem::FreeBlock> block_;
+  Eigen::VectorXd M_vals_, K_vals_;
+  std::array<Eigen::VectorXd, 9> Mij_vals_;
+};
+
+}  // namespace deployfx::body
