@@ -94,13 +94,15 @@ def test_one_hinge_chain_residual_matches_hinged_system(fidelity):
         assert np.abs(ch.iteration_matrix(q, v, a, 0.0, 1.0, 0.05, 0.01) - S).max() <= 1e-8 * np.abs(S).max()
 
 
-@pytest.mark.parametrize("fidelity, tol", [("reduced-linear", 1e-12), ("reduced-nonlinear", 1e-9)])
+@pytest.mark.parametrize("fidelity, tol", [("reduced-linear", 1e-9), ("reduced-nonlinear", 1e-9)])
 def test_one_hinge_chain_run_matches_hinged_system(fidelity, tol):
     """Reference: HingedSystem's run of the paper's scene (4 x 2 mesh, 6 modes, alpha_M = 0.7 1/s,
     the paper's lock) to past the first lock (3 s, dt = 10 ms): the two engines take the same
     steps and switches, so lock time (s), deployment angle (deg) and node deflections (m) agree to
-    `tol` (the Newton solves' trace; measured: reduced-linear lock time 0, angle 1e-13 deg, nodes
-    3e-15 m; reduced-nonlinear 0, 9e-13 deg, 3e-12 m, the output times 1e-14 s)."""
+    `tol`, the trace of Newton's tolerance (1e-10 of the accelerations per step): the two Newton
+    matrices differ at truncation level (differenced vs analytic), so the iterates, and which
+    step reuses a matrix, differ within that tolerance (measured: reduced-linear 6e-11 deg;
+    reduced-nonlinear, nodes and output times below that)."""
     sc = dfx.scenes.Paper2016Scene(dfx.scenes.Paper2016Parameters(model=fidelity, nx=4, ny=2, modes=6))
     chain = compile_chain(sc.scene._base, sc.scene._parts, sc.scene._links, None)
     assert isinstance(chain, ChainModel) and chain.flexible == (True,)

@@ -33,7 +33,7 @@ GeneralizedAlpha::GeneralizedAlpha(const SecondOrderSystem& system, AlphaParamet
 
 AlphaState GeneralizedAlpha::initial_state(double t0, const Eigen::VectorXd& q0,
                                            const Eigen::VectorXd& v0) const {
-  AlphaState s{t0, q0, v0, Eigen::VectorXd::Zero(v0.size()), Eigen::VectorXd()};
+  AlphaState s{t0, q0, v0, Eigen::VectorXd::Zero(v0.size()), Eigen::VectorXd(), Eigen::VectorXd(), 0.0};
   // r is affine in vdot: one Newton step with S = dr/da is exact, a second polishes round-off.
   BorderedSolver mass;
   for (int k = 0; k < 2; ++k) {
@@ -69,7 +69,16 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
     factor_h_ = -1;  // the next attempt starts from a fresh matrix
     return StepFailure(e.str());
   };
-  Eigen::VectorXd vdot = s.vdot;  // predictor: constant acceleration
+  // Predictor. Generalized-alpha carries the part of vdot it cannot resolve (stiff root modes,
+  // a contact's impulse, the start-up) as a transient that alternates in sign and decays by the
+  // high-frequency root -rs = -alpha_f/(1 - alpha_f) (= -rho_inf) per step: the panel's
+  // accelerations after the lock's first impact fall by 0.80 a step for rho_inf = 0.8. With the
+  // previous step of the same size, (1 - rs) vdot_n + rs vdot_n-1 follows such a transient on
+  // top of a constant (5-10 times closer than vdot_n after the impact); otherwise, and for
+  // Newmark (alpha_f = 0), the constant acceleration vdot_n.
+  const double rs = af / (1 - af);
+  const bool history = s.h_prev > 0 && std::abs(s.h_prev - h) <= 1e-12 * h && s.vdot_prev.size() == s.vdot.size();
+  Eigen::VectorXd vdot = history ? Eigen::VectorXd((1 - rs) * s.vdot + rs * s.vdot_prev) : s.vdot;
   // With conserved momenta the base's accelerations play two parts (docs/engine-design.md,
   // "Momentum rows and the base's acceleration"): vdot.head(nc) is the base's algorithmic
   // acceleration, set by Pi(q_{n+1}, v_{n+1}) = Pi_n through the Newmark update, and w is the
@@ -81,7 +90,10 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
   // Convergence is judged against the accelerations at the step's start: an iterate that has run
   // away cannot make its own increments look small.
   const double scale = std::max(1.0, s.vdot.lpNorm<Eigen::Infinity>());
-  bool refactor = !newton_.reuse_jacobian || factor_h_ != h;
+  // Full Newton (a fresh matrix at every iteration) while a reused matrix has lately proved slow.
+  bool full = newton_.reuse_jacobian && full_steps_ > 0;
+  if (full) --full_steps_;
+  bool refactor = !newton_.reuse_jacobian || factor_h_ != h || full;
   double previous = 0;
   Eigen::VectorXd last;  // the previous applied increment (dv, db)
   for (int it = 1; it <= newton_.max_iterations; ++it) {
@@ -96,14 +108,15 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
     if (!r.allFinite() || !rm.allFinite()) throw fail("the residual is not finite");
     const bool fresh = refactor;
     if (fresh) {
-      if (!solver_.factorize(sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c)))
-        throw fail("the iteration matrix is singular");
+      const BlockMatrix S = sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c);
+      dense_matrix_ = 2.0 * static_cast<double>(S.E.nonZeros()) >= static_cast<double>(S.elastic()) * S.elastic();
+      if (!solver_.factorize(S)) throw fail("the iteration matrix is singular");
       if (nc) {  // d/dvdot of the momentum rows above
         momentum_jacobian_ = sys_.momentum_jacobian(q1, v1, 1.0, h * beta / gamma);
         momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
       }
       factor_h_ = h;
-      refactor = !newton_.reuse_jacobian;
+      refactor = !newton_.reuse_jacobian || full;
     }
     // Newton on (w, the other accelerations) with the iteration matrix of the balance rows, then
     // the base's algorithmic acceleration from the momentum rows. (The residual's dependence on
@@ -116,6 +129,12 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
                            : dv.lpNorm<Eigen::Infinity>();
     if (!std::isfinite(size)) throw fail("the Newton increment is not finite");
     const double rho = previous > 0 ? size / previous : 0.0;
+    const double contraction = dense_matrix_ ? newton_.contraction_dense : newton_.contraction;
+    if (!fresh && dense_matrix_ && rho > contraction && newton_.full_newton_steps > 0) {
+      // Reuse does not pay here: full Newton for the rest of this step and the next few.
+      full_steps_ = newton_.full_newton_steps;
+      full = true;
+    }
     if (!fresh && rho >= 1) {  // an old matrix that no longer contracts: refactor here instead
       refactor = true;
       continue;
@@ -140,7 +159,8 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
     const double error = rho > 0 && rho < 1 ? size * rho / (1 - rho) : size;
     // At the round-off floor: only an exact Newton step (a fresh matrix) below the floor is
     // accepted (its update leaves an error of order size^2 / scale, or round-off); an old
-    // matrix's small steps prove nothing (review finding), so they trigger a fresh one.
+    // matrix's small steps prove nothing (review finding), so they trigger a fresh one, unless
+    // the old matrix still contracts fast (rho <= 1e-3: its next step meets the tolerance).
     const bool stalling = it > 1 && size <= newton_.floor * scale;
     const bool stalled = fresh && stalling;
     if (error <= newton_.tolerance * scale || stalled) {
@@ -148,15 +168,18 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
       s.q = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a_new));
       s.v += h * ((1 - gamma) * s.a + gamma * a_new);
       if (nc) polish_momentum(s.q, s.v, Pi_n);
+      s.vdot_prev = std::move(s.vdot);
+      s.h_prev = h;
       s.vdot = vdot;
       s.a = a_new;
       s.t = t1;
       return it;
     }
-    if (!fresh && (rho > newton_.contraction || stalling)) refactor = true;  // slow or stalled, old matrix
+    if (!fresh && (rho > contraction || (stalling && rho > 1e-3))) refactor = true;  // slow or stalled, old matrix
     previous = size;
   }
   factor_h_ = -1;
+  if (newton_.reuse_jacobian && dense_matrix_) full_steps_ = newton_.full_newton_steps;  // the retry: full Newton
   std::ostringstream e;
   e << "Newton did not converge at t = " << t1 << " s (step " << h << " s) in "
     << newton_.max_iterations << " iterations";

@@ -40,9 +40,20 @@ struct NewtonOptions {
   /// fitting against stiff root elements: 1e-7..1e-6), where 1e-10 cannot be reached.
   double floor = 1e-5;
   /// Modified Newton: keep the factorized iteration matrix across iterations and steps while
-  /// the iterations contract by at least `contraction` per iteration; refactor otherwise.
+  /// the iterations contract by at least `contraction` per iteration; refactor otherwise. How
+  /// fast is fast enough depends on what a factorization costs against an iteration (Hairer &
+  /// Wanner's RADAU5 recomputes its Jacobian unless theta < 1e-3 for cheap ones, 0.1 for costly
+  /// ones): `contraction` for an iteration matrix with a sparse elastic block (the full models:
+  /// a sparse LU costs many residuals), `contraction_dense` for a dense one (rigid and reduced
+  /// models, whose LU costs about a residual). For a dense matrix a slow reused one also switches
+  /// the rest of the step and the next `full_newton_steps` steps to full Newton (a fresh matrix
+  /// every iteration): measured on the paper's scene, the reduced-nonlinear model's previous-step
+  /// matrix contracts by only 0.02-0.2 and was refactored about 3 times a step anyway, doubling
+  /// the iterations.
   bool reuse_jacobian = true;
   double contraction = 0.25;
+  double contraction_dense = 0.01;
+  int full_newton_steps = 10;
 };
 
 /// The state the integrator carries from step to step.
@@ -54,6 +65,9 @@ struct NewtonOptions {
 struct AlphaState {
   double t = 0;
   Eigen::VectorXd q, v, vdot, a;  // a: the algorithmic acceleration
+  /// The Newton predictor's history: vdot one step back and that step's size (0: none).
+  Eigen::VectorXd vdot_prev;
+  double h_prev = 0;
 };
 
 /// Thrown when Newton fails; says when and why.
@@ -82,6 +96,10 @@ class GeneralizedAlpha {
   // Scratch of one run: the factorized iteration matrix and the step size it was built for.
   mutable BorderedSolver solver_;
   mutable double factor_h_ = -1;
+  // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps),
+  // and whether the last matrix factorized was dense (its elastic block, if any, half full).
+  mutable int full_steps_ = 0;
+  mutable bool dense_matrix_ = false;
   // With conserved momenta: dPi/dvdot of the momentum rows at the last factorization, and the LU
   // of its base columns.
   mutable Eigen::MatrixXd momentum_jacobian_;
