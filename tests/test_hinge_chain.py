@@ -194,33 +194,40 @@ def test_three_panels_conserve_momentum_and_energy():
     assert np.abs(E - E[0]).max() <= 1e-6 * run["kinetic_energy"].max()
 
 
-def test_jacobians_match_finite_differences():
-    """Reference: central differences. dr/da = M exactly (r is affine in a); dPi/dv = A(q) exactly
-    (Pi is linear in v); dr/dv, dr/dq (along retract) and dPi/dq to the differences' 1e-6."""
-    ch = three_panels(c=0.3)
-    q, v, a = random_state(10, 9, 4)
-    n = 9
-    M = ch.iteration_matrix(q, v, a, 0.0, 1.0, 0.0, 0.0)
-    np.testing.assert_allclose(M, M.T, atol=1e-12 * np.abs(M).max())
-    assert np.linalg.eigvalsh(M).min() > 0
+def check_jacobians(ch, q, v, a, mass_tol=1e-10, h=1e-6):
+    """Asserts a HingeChain's Newton and momentum Jacobians against central differences:
+    M = dr/da symmetric positive definite and exact to ``mass_tol`` (r is affine in a), dPi/dv
+    = A(q) to 1e-12 (Pi is linear in v), dr/dv, dr/dq (along retract) and dPi/dq to the
+    differences' 1e-6 (step ``h``)."""
+    n = ch.num_velocities
     E = np.eye(n)
+    M = ch.iteration_matrix(q, v, a, 0.0, 1.0, 0.0, 0.0)
+    np.testing.assert_allclose(M, M.T, rtol=0, atol=1e-12 * np.abs(M).max())
+    assert np.linalg.eigvalsh(M).min() > 0
     dr_da = np.column_stack([(ch.residual(q, v, a + E[j], 0.0) - ch.residual(q, v, a - E[j], 0.0)) / 2
                              for j in range(n)])
-    np.testing.assert_allclose(M, dr_da, rtol=0, atol=1e-10 * np.abs(M).max())
-    h = 1e-6
+    np.testing.assert_allclose(M, dr_da, rtol=0, atol=mass_tol * np.abs(M).max())
     dr_dv = np.column_stack([(ch.residual(q, v + h * E[j], a, 0.0) - ch.residual(q, v - h * E[j], a, 0.0)) / (2 * h)
                              for j in range(n)])
     dr_dq = np.column_stack([(ch.residual(ch.retract(q, h * E[j]), v, a, 0.0) -
                               ch.residual(ch.retract(q, -h * E[j]), v, a, 0.0)) / (2 * h) for j in range(n)])
-    S = ch.iteration_matrix(q, v, a, 0.0, 0.0, 1.0, 0.0)
-    np.testing.assert_allclose(S, dr_dv, rtol=0, atol=1e-6 * np.abs(dr_dv).max())
-    S = ch.iteration_matrix(q, v, a, 0.0, 0.0, 0.0, 1.0)
-    np.testing.assert_allclose(S, dr_dq, rtol=0, atol=1e-6 * np.abs(dr_dq).max())
+    np.testing.assert_allclose(ch.iteration_matrix(q, v, a, 0.0, 0.0, 1.0, 0.0), dr_dv, rtol=0,
+                               atol=1e-6 * np.abs(dr_dv).max())
+    np.testing.assert_allclose(ch.iteration_matrix(q, v, a, 0.0, 0.0, 0.0, 1.0), dr_dq, rtol=0,
+                               atol=1e-6 * np.abs(dr_dq).max())
     A = np.column_stack([(ch.momentum(q, v + E[j]) - ch.momentum(q, v - E[j])) / 2 for j in range(n)])
     np.testing.assert_allclose(ch.momentum_jacobian(q, v, 1.0, 0.0), A, rtol=0, atol=1e-12 * np.abs(A).max())
     dP_dq = np.column_stack([(ch.momentum(ch.retract(q, h * E[j]), v) - ch.momentum(ch.retract(q, -h * E[j]), v))
                              / (2 * h) for j in range(n)])
     np.testing.assert_allclose(ch.momentum_jacobian(q, v, 0.0, 1.0), dP_dq, rtol=0, atol=1e-6 * np.abs(dP_dq).max())
+
+
+def test_jacobians_match_finite_differences():
+    """Reference: central differences (check_jacobians), at a random state of three panels."""
+    ch = three_panels(c=0.3)
+    q, v, a = random_state(10, 9, 4)
+    assert ch.num_velocities == 9
+    check_jacobians(ch, q, v, a)
 
 
 # ------------------------------------------------------------------------------------------------
