@@ -20,7 +20,10 @@ quantities live in the deployment and the first impact (lock at ~2.46 s). Past t
 undamped appendage rings for the rest of the 30 s, and its phase error grows with time, so a 30 s
 history error measures mostly the phase drift of a 0.8 Hz oscillation.
 
-What converges, measured on this build (nonlinear; rigid where said):
+What converges on the UNDAMPED scene (``damping=(0, 0)``, the default when this was measured, in
+session 4; nonlinear; rigid where said). On the damped default scene (session 6) the first lock
+and the peak lock force converge: every flexible model within 0.4 ms and 0.07 % of the
+reference down to dt = 0.02 s (the README's table).
 
 - Peak lock force: ill-conditioned in dt for the flexible models, and not converged at any step
   this bench can afford. The paper's contact law F = K delta^1.5 + D d(delta)/dt (D = 1e6 N s/m)
@@ -49,7 +52,8 @@ Cost of one nonlinear step (ms) at dt = 2e-4 / 0.01 (early deployment, 2.5 / 12.
 iterations per step): 10 x 7: 7.7 / 55; 15 x 10: 19 / 154; 30 x 20: 162 / 1550. The full sweep's
 30 x 20 reference (15000 steps) therefore takes ~40 min and the whole full sweep over an hour.
 Measured on a shared 2-core machine: ``--quick`` 176 s; ``--max-mesh 10x7`` 761 s (its 10 x 7
-reference at dt = 2e-4: 157 s).
+reference at dt = 2e-4: 157 s); in session 6 (damped default, Newton and set-up gains)
+``--max-mesh 10x7`` 170 s (reference 51 s).
 
 No assertions: the trade is measured here, not tested. Writes ``tradeoff.csv`` (every column of
 :data:`deployfx.tradeoff.COLUMNS`), ``tradeoff.md`` (the short table, for the README),
