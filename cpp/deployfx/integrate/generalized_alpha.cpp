@@ -146,12 +146,20 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
     inc << dv, db;
     const bool cycle = fresh && rho >= 0.9 && rho <= 1.1 && last.size() == inc.size() &&
                        inc.dot(last) < -0.9 * inc.norm() * last.norm();
-    const double lambda = cycle ? 0.5 : 1.0;
+    // The system's limit on the step (SecondOrderSystem::newton_step_limit), from the velocity
+    // change it would make: v_{n+1} moves by h gamma c times the change of vdot.
+    Eigen::VectorXd dvel(n);
+    dvel.head(nc) = db;  // the base's algorithmic acceleration
+    dvel.tail(n - nc) = dv.tail(n - nc);
+    const double limit = sys_.newton_step_limit(q1, v1, -(h * gamma * c) * dvel);
+    const bool limited = limit < (cycle ? 0.5 : 1.0);
+    const double lambda = limited ? limit : cycle ? 0.5 : 1.0;
     last = lambda * inc;
     vdot.tail(n - nc) -= lambda * dv.tail(n - nc);
     if (nc) w -= lambda * dv.head(nc), vdot.head(nc) -= lambda * db;
-    if (cycle) {
+    if (cycle || limited) {
       previous = lambda * size;
+      if (limited) refactor = true;  // the matrix of the far side no longer holds
       continue;
     }
     // Contraction rate of the (possibly modified) Newton iteration; its error estimate

@@ -27,6 +27,15 @@ class SecondOrderSystem {
                                        const Eigen::VectorXd& a, double t, double c_a,
                                        double c_v, double c_q) const = 0;
 
+  /// The largest fraction in (0, 1] of a Newton increment worth taking from the iterate (q, v),
+  /// given the velocity change dv the whole increment would make. A system whose residual turns
+  /// sharply in a velocity (a regularized friction law at stick, steep over a narrow band) limits
+  /// the steps that would carry Newton across the band, where it overshoots and cycles. Default 1.
+  virtual double newton_step_limit(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/,
+                                   const Eigen::VectorXd& /*dv*/) const {
+    return 1.0;
+  }
+
   // Conserved momenta. A free-floating system's first rows are the balance of its total momentum,
   // d(Pi)/dt = 0 with no external load (You et al. 2016, Eq. 36-43). An integrator may replace
   // those rows by Pi(q_{n+1}, v_{n+1}) = Pi(q_n, v_n) to conserve momentum to round-off.

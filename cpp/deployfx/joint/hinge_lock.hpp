@@ -48,6 +48,16 @@ LockLoad lock_load(const HingeLockSpec& lock, const LockHistory& history, double
 /// wall's gap (m), a closed wall's normal force (N); the latch's is +inf until latched.
 void lock_events(const HingeLockSpec& lock, const LockHistory& history, double theta, double rate,
                  double* stop, double* latch);
+/// The fraction in (0, 1] of a Newton step worth taking that changes the hinge rate from `rate`
+/// by `rate_change` (rad/s), for a lock whose wall is in contact with friction: the friction
+/// torque turns over the band |theta'| < v_reg / r_pin, steeply (slope mu F_n r_pin^2 / v_reg);
+/// against a small effective inertia (a hinge riding on a flexible panel) exact Newton from the
+/// slip on one side jumps far past the band to the other and cycles about it at any time step.
+/// A step that would carry theta' from outside the band across it to far beyond (10 widths) is
+/// cut to land on theta' = 0, from where Newton on the regularized law converges without
+/// overshoot to a root on either side (the law is concave on one side of 0, convex on the
+/// other). 1 otherwise (no wall in contact, no friction, no such crossing).
+double friction_step_limit(const HingeLockSpec& lock, const LockHistory& history, double rate, double rate_change);
 /// Updates the history after an accepted step ending at (theta, rate).
 void update_lock_history(const HingeLockSpec& lock, LockHistory& history, double theta, double rate);
 

@@ -370,6 +370,16 @@ Eigen::MatrixXd HingeChain::momentum_jacobian(const Eigen::VectorXd& q, const Ei
   return JP;
 }
 
+double HingeChain::newton_step_limit(const Eigen::VectorXd&, const Eigen::VectorXd& v,
+                                     const Eigen::VectorXd& dv) const {
+  double limit = 1.0;
+  for (int c = 0; c < num_hinges(); ++c)
+    if (hinges_[c].lock)
+      limit = std::min(limit, joint::friction_step_limit(*hinges_[c].lock, lock_history_[c], v(iv_theta_ + c),
+                                                         dv(iv_theta_ + c)));
+  return limit;
+}
+
 Eigen::VectorXd HingeChain::gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double) const {
   std::vector<double> g;
   for (int c = 0; c < num_hinges(); ++c) {

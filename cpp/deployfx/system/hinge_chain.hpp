@@ -103,6 +103,10 @@ class HingeChain final : public integrate::SecondOrderSystem {
   Eigen::MatrixXd momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
                                     double c_q) const override;
 
+  /// The smallest of the locks' limits (joint::friction_step_limit) on the hinge rates' changes.
+  double newton_step_limit(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                           const Eigen::VectorXd& dv) const override;
+
   /// The locks' event functions, two per locked hinge in hinge order (joint::lock_events).
   Eigen::VectorXd gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const override;
   void accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const override;
