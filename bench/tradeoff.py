@@ -53,7 +53,8 @@ iterations per step): 10 x 7: 7.7 / 55; 15 x 10: 19 / 154; 30 x 20: 162 / 1550. 
 30 x 20 reference (15000 steps) therefore takes ~40 min and the whole full sweep over an hour.
 Measured on a shared 2-core machine: ``--quick`` 176 s; ``--max-mesh 10x7`` 761 s (its 10 x 7
 reference at dt = 2e-4: 157 s); in session 6 (damped default, Newton and set-up gains)
-``--max-mesh 10x7`` 170 s (reference 51 s).
+``--max-mesh 10x7`` 170 s (reference 51 s); the full sweep with ``--ref-dt 5e-4`` 1393 s (its
+30 x 20 reference 747 s).
 
 No assertions: the trade is measured here, not tested. Writes ``tradeoff.csv`` (every column of
 :data:`deployfx.tradeoff.COLUMNS`), ``tradeoff.md`` (the short table, for the README),
