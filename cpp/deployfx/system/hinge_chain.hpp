@@ -103,7 +103,8 @@ class HingeChain final : public integrate::SecondOrderSystem {
   Eigen::MatrixXd momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
                                     double c_q) const override;
 
-  /// The smallest of the locks' limits (joint::friction_step_limit) on the hinge rates' changes.
+  /// The smallest of the locks' limits (joint::friction_step_limit) on the hinge rates' changes
+  /// (HingedSystem applies the same to its one lock).
   double newton_step_limit(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                            const Eigen::VectorXd& dv) const override;
 

@@ -214,4 +214,10 @@ HingedSystem::Outputs HingedSystem::outputs(const Eigen::VectorXd& q, const Eige
   return o;
 }
 
+double HingedSystem::newton_step_limit(const Eigen::VectorXd&, const Eigen::VectorXd& v,
+                                       const Eigen::VectorXd& dv) const {
+  if (!hinge_.lock || iv_theta_ < 0) return 1.0;
+  return joint::friction_step_limit(*hinge_.lock, lock_history_, v(iv_theta_), dv(iv_theta_));
+}
+
 }  // namespace deployfx::system

@@ -88,6 +88,10 @@ class HingedSystem final : public integrate::SecondOrderSystem {
   Eigen::VectorXd gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const override;
   void accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) const override;
   void reset_history() const override { lock_history_ = {}; }
+  /// The lock's limit on the hinge rate's change across its friction band
+  /// (joint::friction_step_limit), as for every hinge of a HingeChain.
+  double newton_step_limit(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                           const Eigen::VectorXd& dv) const override;
   /// Held for the whole of a run: the lock's history is per run, so concurrent runs on one
   /// system (threads in a parameter sweep) take turns instead of corrupting each other.
   std::mutex& run_mutex() const { return run_mutex_; }
