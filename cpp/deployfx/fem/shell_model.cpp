@@ -1,5 +1,6 @@
 #include "deployfx/fem/shell_model.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -34,25 +35,46 @@ ShellModel::ShellModel(NodeMatrix nodes, QuadMatrix quads, const material::Lamin
     if (!used[n])
       throw std::invalid_argument("ShellModel.nodes[" + std::to_string(n) +
                                   "] belongs to no element (its dofs would be singular)");
+  build_pattern();
   K_ = assemble([](const ShellElement& el, int) { return el.stiffness(); });
   M_ = assemble([](const ShellElement& el, int) { return el.mass(); });
 }
 
-template <class ElementMatrix>
-SparseMatrix ShellModel::assemble(ElementMatrix&& element_matrix) const {
+void ShellModel::build_pattern() {
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(static_cast<std::size_t>(num_elements()) * kElementDofs * kElementDofs);
-  for (int e = 0; e < num_elements(); ++e) {
-    const ElemMat Ke = element_matrix(elements_[e], e);
+  for (int e = 0; e < num_elements(); ++e)
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b)
         for (int i = 0; i < kNodeDofs; ++i)
           for (int j = 0; j < kNodeDofs; ++j)
-            t.emplace_back(kNodeDofs * quads_(e, a) + i, kNodeDofs * quads_(e, b) + j,
-                           Ke(kNodeDofs * a + i, kNodeDofs * b + j));
+            t.emplace_back(kNodeDofs * quads_(e, a) + i, kNodeDofs * quads_(e, b) + j, 0.0);
+  pattern_.resize(num_dofs(), num_dofs());
+  pattern_.setFromTriplets(t.begin(), t.end());
+  pattern_.makeCompressed();
+  const int* outer = pattern_.outerIndexPtr();
+  const int* inner = pattern_.innerIndexPtr();
+  slots_.resize(static_cast<std::size_t>(num_elements()) * kElementDofs * kElementDofs);
+  std::size_t k = 0;
+  for (int e = 0; e < num_elements(); ++e)
+    for (int c = 0; c < kElementDofs; ++c)
+      for (int r = 0; r < kElementDofs; ++r) {
+        const int row = kNodeDofs * quads_(e, r / kNodeDofs) + r % kNodeDofs;
+        const int col = kNodeDofs * quads_(e, c / kNodeDofs) + c % kNodeDofs;
+        slots_[k++] = static_cast<int>(std::lower_bound(inner + outer[col], inner + outer[col + 1], row) - inner);
+      }
+}
+
+template <class ElementMatrix>
+SparseMatrix ShellModel::assemble(ElementMatrix&& element_matrix) const {
+  SparseMatrix A = pattern_;
+  double* values = A.valuePtr();
+  constexpr int kEntries = kElementDofs * kElementDofs;
+  for (int e = 0; e < num_elements(); ++e) {
+    const ElemMat Ke = element_matrix(elements_[e], e);
+    const int* slot = slots_.data() + static_cast<std::size_t>(e) * kEntries;
+    for (int k = 0; k < kEntries; ++k) values[slot[k]] += Ke.data()[k];
   }
-  SparseMatrix A(num_dofs(), num_dofs());
-  A.setFromTriplets(t.begin(), t.end());
   return A;
 }
 

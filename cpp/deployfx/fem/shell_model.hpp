@@ -47,12 +47,17 @@ class ShellModel {
   void check_size(const Eigen::VectorXd& u, const char* name) const;
   ElemVec gather(const Eigen::VectorXd& u, int e) const;
   void scatter(const ElemVec& fe, int e, Eigen::VectorXd* f) const;
+  // The mesh's node-block pattern and, for each element, where its 24 x 24 entries land in the
+  // pattern's values (column-major within the element), so assembly is a scatter with no sort.
+  void build_pattern();
   template <class ElementMatrix>
   SparseMatrix assemble(ElementMatrix&& element_matrix) const;
 
   NodeMatrix nodes_;
   QuadMatrix quads_;
   std::vector<ShellElement> elements_;
+  SparseMatrix pattern_;               // compressed, zero values
+  std::vector<int> slots_;             // (elements x 576): element entry -> pattern_ value index
   SparseMatrix K_, M_;
 };
 
