@@ -1,11 +1,22 @@
 #pragma once
 // Solves S x = r for a BlockMatrix by the Schur complement on its dense border:
 //   E y = r_e,  E Z = C,  (A - B Z) x_b = r_b - B y,  x_e = y - Z x_b.
-// The sparse LU of E keeps its fill-reducing ordering (COLAMD) across factorizations of the same
-// pattern, so a step costs one numeric factorization and nb + 1 triangular solve pairs.
+//
+// The elastic block E = c_a M + c_v (2 G_y(w) + damping) + c_q (K_T + ...) is symmetric but for the
+// floating frame's gyroscopic terms G_y (hinged_system_jacobians.cpp), which are skew. Where they
+// are small, E is factorized by a sparse LDL^T of its symmetric part Es (Eigen's SimplicialLDLT,
+// AMD ordering: 3x cheaper than the sparse LU on the paper's 15 x 10 plate, and half the
+// triangular solve), and the solve refines against S (each step shrinks the error by the spectral
+// radius of Es^-1 Ek, below 3e-4 on the paper's deployment: G_y couples a mode with the in-plane,
+// membrane-stiff ones), so the Newton iteration sees S^-1 to round-off. That radius is estimated
+// at each factorization;
+// above `skew_tolerance` (a fast spin) E is factorized exactly by the sparse LU (COLAMD). Both
+// keep their fill-reducing ordering across factorizations of one pattern.
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
+#include <vector>
 
 #include "deployfx/integrate/block_matrix.hpp"
 
@@ -13,20 +24,37 @@ namespace deployfx::integrate {
 
 class BorderedSolver {
  public:
+  /// Largest estimated contraction rate of the dropped skew part for which E's symmetric part is
+  /// factorized instead of E (0: always the exact LU).
+  explicit BorderedSolver(double skew_tolerance = 1e-3) : skew_tolerance_(skew_tolerance) {}
   /// Factorizes S; returns false if E or the Schur complement is singular (or not finite).
   bool factorize(const BlockMatrix& S);
   /// x = S^-1 r for the last factorized S.
   Eigen::VectorXd solve(const Eigen::VectorXd& r) const;
   /// Numeric factorizations done so far (for cost accounting).
   long factorizations() const { return factorizations_; }
+  /// Of those, the ones of E's symmetric part by LDL^T.
+  long symmetric_factorizations() const { return symmetric_factorizations_; }
 
  private:
-  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu_E_;
+  using SparseMatrix = Eigen::SparseMatrix<double>;
+  void analyze(const SparseMatrix& E);
+  bool factorize_symmetric(const SparseMatrix& E);  // false: E's skew part is not small, or LDL^T failed
+  bool factorize_exact(const SparseMatrix& E);
+  Eigen::VectorXd solve_factorized(const Eigen::VectorXd& r) const;  // with Es for E if symmetric_
+
+  double skew_tolerance_;
+  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_E_;
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_E_;
+  SparseMatrix E_sym_, E_skew_;           // E's pattern, (E + E^T)/2 and (E - E^T)/2
+  std::vector<Eigen::Index> transpose_;   // E's k-th nonzero (i, j) -> the slot of (j, i); empty: not
+                                          // structurally symmetric
+  bool lu_analyzed_ = false, symmetric_ = false;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_schur_;
-  Eigen::MatrixXd B_, Z_;
+  Eigen::MatrixXd A_, B_, C_, Z_;  // S's border, kept for the refinement; Z = E^-1 C
   Eigen::Index pattern_nnz_ = -1, pattern_rows_ = -1;
   int nb_ = 0, ne_ = 0;
-  long factorizations_ = 0;
+  long factorizations_ = 0, symmetric_factorizations_ = 0;
 };
 
 }  // namespace deployfx::integrate
