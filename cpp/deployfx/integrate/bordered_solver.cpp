@@ -67,6 +67,7 @@ bool BorderedSolver::factorize_exact(const SparseMatrix& E) {
 bool BorderedSolver::factorize(const BlockMatrix& S) {
   nb_ = S.border();
   ne_ = S.elastic();
+  symmetric_ = false;
   ++factorizations_;
   Eigen::MatrixXd schur = S.A;
   if (ne_ > 0) {
@@ -75,8 +76,7 @@ bool BorderedSolver::factorize(const BlockMatrix& S) {
     if (S.E.nonZeros() != pattern_nnz_ || S.E.rows() != pattern_rows_) analyze(S.E);
     C_ = S.C;
     symmetric_ = factorize_symmetric(S.E);
-    if (symmetric_) ++symmetric_factorizations_;
-    else if (!factorize_exact(S.E)) return false;
+    if (!symmetric_ && !factorize_exact(S.E)) return false;
     B_ = S.B;
     A_ = S.A;
     if (nb_ > 0) schur.noalias() -= B_ * Z_;

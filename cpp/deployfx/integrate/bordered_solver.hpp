@@ -8,10 +8,9 @@
 // AMD ordering: 3x cheaper than the sparse LU on the paper's 15 x 10 plate, and half the
 // triangular solve), and the solve refines against S (each step shrinks the error by the spectral
 // radius of Es^-1 Ek, below 3e-4 on the paper's deployment: G_y couples a mode with the in-plane,
-// membrane-stiff ones), so the Newton iteration sees S^-1 to round-off. That radius is estimated
-// at each factorization;
-// above `skew_tolerance` (a fast spin) E is factorized exactly by the sparse LU (COLAMD). Both
-// keep their fill-reducing ordering across factorizations of one pattern.
+// membrane-stiff ones), so the Newton iteration sees S^-1 to 1e-8. That radius is estimated at
+// each factorization; above `skew_tolerance` (a fast spin) E is factorized exactly by the sparse
+// LU (COLAMD). Both keep their fill-reducing ordering across factorizations of one pattern.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <Eigen/SparseCholesky>
@@ -33,8 +32,6 @@ class BorderedSolver {
   Eigen::VectorXd solve(const Eigen::VectorXd& r) const;
   /// Numeric factorizations done so far (for cost accounting).
   long factorizations() const { return factorizations_; }
-  /// Of those, the ones of E's symmetric part by LDL^T.
-  long symmetric_factorizations() const { return symmetric_factorizations_; }
 
  private:
   using SparseMatrix = Eigen::SparseMatrix<double>;
@@ -54,7 +51,7 @@ class BorderedSolver {
   Eigen::MatrixXd A_, B_, C_, Z_;  // S's border, kept for the refinement; Z = E^-1 C
   Eigen::Index pattern_nnz_ = -1, pattern_rows_ = -1;
   int nb_ = 0, ne_ = 0;
-  long factorizations_ = 0, symmetric_factorizations_ = 0;
+  long factorizations_ = 0;
 };
 
 }  // namespace deployfx::integrate
