@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "deployfx/fem/constrained_solve.hpp"
+#include "deployfx/math/sparse_slot.hpp"
 
 namespace deployfx::fem {
 
@@ -23,11 +24,9 @@ FreeBlock::FreeBlock(const SparseMatrix& pattern, const std::vector<int>& free)
 Eigen::Index FreeBlock::slot(int row, int col) const {
   const int r = index_[row], c = index_[col];
   if (r < 0 || c < 0) return -1;
-  const int* begin = block_.innerIndexPtr() + block_.outerIndexPtr()[c];
-  const int* end = block_.innerIndexPtr() + block_.outerIndexPtr()[c + 1];
-  const int* p = std::lower_bound(begin, end, r);
-  if (p == end || *p != r) throw std::logic_error("FreeBlock: entry outside the pattern");
-  return p - block_.innerIndexPtr();
+  const Eigen::Index s = sparse_slot(block_, r, c);
+  if (s < 0) throw std::logic_error("FreeBlock: entry outside the pattern");
+  return s;
 }
 
 Eigen::VectorXd FreeBlock::aligned(const SparseMatrix& A) const {

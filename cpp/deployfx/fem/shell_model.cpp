@@ -1,8 +1,9 @@
 #include "deployfx/fem/shell_model.hpp"
 
-#include <algorithm>
 #include <stdexcept>
 #include <string>
+
+#include "deployfx/math/sparse_slot.hpp"
 
 namespace deployfx::fem {
 
@@ -52,8 +53,6 @@ void ShellModel::build_pattern() {
   pattern_.resize(num_dofs(), num_dofs());
   pattern_.setFromTriplets(t.begin(), t.end());
   pattern_.makeCompressed();
-  const int* outer = pattern_.outerIndexPtr();
-  const int* inner = pattern_.innerIndexPtr();
   slots_.resize(static_cast<std::size_t>(num_elements()) * kElementDofs * kElementDofs);
   std::size_t k = 0;
   for (int e = 0; e < num_elements(); ++e)
@@ -61,7 +60,7 @@ void ShellModel::build_pattern() {
       for (int r = 0; r < kElementDofs; ++r) {
         const int row = kNodeDofs * quads_(e, r / kNodeDofs) + r % kNodeDofs;
         const int col = kNodeDofs * quads_(e, c / kNodeDofs) + c % kNodeDofs;
-        slots_[k++] = static_cast<int>(std::lower_bound(inner + outer[col], inner + outer[col + 1], row) - inner);
+        slots_[k++] = static_cast<int>(sparse_slot(pattern_, row, col));
       }
 }
 

@@ -1,7 +1,8 @@
 #include "deployfx/integrate/bordered_solver.hpp"
 
-#include <algorithm>
 #include <cmath>
+
+#include "deployfx/math/sparse_slot.hpp"
 
 namespace deployfx::integrate {
 
@@ -15,13 +16,11 @@ void BorderedSolver::analyze(const SparseMatrix& E) {
   const int* inner = E.innerIndexPtr();
   for (int j = 0; j < E.outerSize(); ++j)
     for (int k = outer[j]; k < outer[j + 1]; ++k) {
-      const int i = inner[k];
-      const int* p = std::lower_bound(inner + outer[i], inner + outer[i + 1], j);
-      if (p == inner + outer[i + 1] || *p != j) {
+      transpose_[k] = sparse_slot(E, j, inner[k]);
+      if (transpose_[k] < 0) {
         transpose_.clear();  // not structurally symmetric: the exact LU only
         return;
       }
-      transpose_[k] = p - inner;
     }
   E_sym_ = E;
   E_skew_ = E;
