@@ -93,7 +93,9 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
   // Full Newton (a fresh matrix at every iteration) while a reused matrix has lately proved slow.
   bool full = newton_.reuse_jacobian && full_steps_ > 0;
   if (full) --full_steps_;
-  bool refactor = !newton_.reuse_jacobian || factor_h_ != h || full;
+  // A step of the same size up to round-off (a run's output times are t0 + k dt, so its steps
+  // differ from dt in the last bits) keeps the matrix.
+  bool refactor = !newton_.reuse_jacobian || !(std::abs(factor_h_ - h) <= 1e-12 * h) || full;
   double previous = 0;
   Eigen::VectorXd last;  // the previous applied increment (dv, db)
   for (int it = 1; it <= newton_.max_iterations; ++it) {
