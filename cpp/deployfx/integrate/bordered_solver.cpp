@@ -63,10 +63,27 @@ bool BorderedSolver::factorize_exact(const SparseMatrix& E) {
   return true;
 }
 
+bool BorderedSolver::factorize_dense(const SparseMatrix& E) {
+  const Eigen::MatrixXd dense(E);
+  lu_dense_E_.compute(dense);
+  if (!(lu_dense_E_.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-300)) return false;
+  Z_ = lu_dense_E_.solve(C_);
+  return Z_.allFinite();
+}
+
+Eigen::VectorXd BorderedSolver::solve_elastic(const Eigen::VectorXd& r) const {
+  switch (method_) {
+    case Method::kDense: return lu_dense_E_.solve(r);
+    case Method::kSymmetric: return ldlt_E_.solve(r);
+    case Method::kExact: break;
+  }
+  return lu_E_.solve(r);
+}
+
 bool BorderedSolver::factorize(const BlockMatrix& S) {
   nb_ = S.border();
   ne_ = S.elastic();
-  symmetric_ = false;
+  method_ = Method::kExact;
   ++factorizations_;
   Eigen::MatrixXd schur = S.A;
   if (ne_ > 0) {
@@ -74,8 +91,14 @@ bool BorderedSolver::factorize(const BlockMatrix& S) {
     // The pattern of E is fixed by the mesh; re-analyse only if it changed.
     if (S.E.nonZeros() != pattern_nnz_ || S.E.rows() != pattern_rows_) analyze(S.E);
     C_ = S.C;
-    symmetric_ = factorize_symmetric(S.E);
-    if (!symmetric_ && !factorize_exact(S.E)) return false;
+    if (2 * static_cast<double>(S.E.nonZeros()) >= static_cast<double>(ne_) * ne_) {
+      method_ = Method::kDense;
+      if (!factorize_dense(S.E)) return false;
+    } else if (factorize_symmetric(S.E)) {
+      method_ = Method::kSymmetric;
+    } else if (!factorize_exact(S.E)) {
+      return false;
+    }
     B_ = S.B;
     A_ = S.A;
     if (nb_ > 0) schur.noalias() -= B_ * Z_;
@@ -90,8 +113,7 @@ bool BorderedSolver::factorize(const BlockMatrix& S) {
 
 Eigen::VectorXd BorderedSolver::solve_factorized(const Eigen::VectorXd& r) const {
   if (ne_ == 0) return lu_schur_.solve(r);
-  const Eigen::VectorXd y = symmetric_ ? Eigen::VectorXd(ldlt_E_.solve(r.tail(ne_)))
-                                       : Eigen::VectorXd(lu_E_.solve(r.tail(ne_)));
+  const Eigen::VectorXd y = solve_elastic(r.tail(ne_));
   if (nb_ == 0) return y;
   Eigen::VectorXd x(nb_ + ne_);
   x.head(nb_) = lu_schur_.solve(r.head(nb_) - B_ * y);
@@ -101,7 +123,7 @@ Eigen::VectorXd BorderedSolver::solve_factorized(const Eigen::VectorXd& r) const
 
 Eigen::VectorXd BorderedSolver::solve(const Eigen::VectorXd& r) const {
   Eigen::VectorXd x = solve_factorized(r);
-  if (!symmetric_) return x;
+  if (method_ != Method::kSymmetric) return x;
   // Iterative refinement against S itself, with the factorization of [A B; C Es] as the
   // preconditioner: each step shrinks the error by the radius of Es^-1 Ek (<= skew_tolerance), to
   // 1e-8 of x (on Newton's last increments, 1e-10 of the accelerations, an error of 1e-18):

@@ -11,6 +11,8 @@
 // membrane-stiff ones), so the Newton iteration sees S^-1 to 1e-8. That radius is estimated at
 // each factorization; above `skew_tolerance` (a fast spin) E is factorized exactly by the sparse
 // LU (COLAMD). Both keep their fill-reducing ordering across factorizations of one pattern.
+// A dense E (half full or more: a reduced model's modal block) goes through a dense LU, exact and
+// cheaper than either sparse path at that size.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <Eigen/SparseCholesky>
@@ -38,15 +40,22 @@ class BorderedSolver {
   void analyze(const SparseMatrix& E);
   bool factorize_symmetric(const SparseMatrix& E);  // false: E's skew part is not small, or LDL^T failed
   bool factorize_exact(const SparseMatrix& E);
-  Eigen::VectorXd solve_factorized(const Eigen::VectorXd& r) const;  // with Es for E if symmetric_
+  bool factorize_dense(const SparseMatrix& E);
+  Eigen::VectorXd solve_factorized(const Eigen::VectorXd& r) const;  // with Es for E if kSymmetric
+  Eigen::VectorXd solve_elastic(const Eigen::VectorXd& r) const;     // E^-1 r (Es^-1 r if kSymmetric)
+
+  // How the last E was factorized.
+  enum class Method { kDense, kSymmetric, kExact };
 
   double skew_tolerance_;
   Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_E_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_dense_E_;
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_E_;
   SparseMatrix E_sym_, E_skew_;           // E's pattern, (E + E^T)/2 and (E - E^T)/2
   std::vector<Eigen::Index> transpose_;   // E's k-th nonzero (i, j) -> the slot of (j, i); empty: not
                                           // structurally symmetric
-  bool lu_analyzed_ = false, symmetric_ = false;
+  bool lu_analyzed_ = false;
+  Method method_ = Method::kExact;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_schur_;
   Eigen::MatrixXd A_, B_, C_, Z_;  // S's border, kept for the refinement; Z = E^-1 C
   Eigen::Index pattern_nnz_ = -1, pattern_rows_ = -1;
