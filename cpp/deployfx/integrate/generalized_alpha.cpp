@@ -55,7 +55,7 @@ void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd
   v.head(nc) += J.partialPivLu().solve(Pi - sys_.momentum(q, v));
 }
 
-int GeneralizedAlpha::step(AlphaState& s, double h) const {
+int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess) const {
   const double am = p_.alpha_m, af = p_.alpha_f, beta = p_.beta, gamma = p_.gamma;
   const double t1 = s.t + h;
   const int nc = sys_.num_conserved();
@@ -78,7 +78,9 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
   // Newmark (alpha_f = 0), the constant acceleration vdot_n.
   const double rs = af / (1 - af);
   const bool history = s.h_prev > 0 && std::abs(s.h_prev - h) <= 1e-12 * h && s.vdot_prev.size() == s.vdot.size();
-  Eigen::VectorXd vdot = history ? Eigen::VectorXd((1 - rs) * s.vdot + rs * s.vdot_prev) : s.vdot;
+  Eigen::VectorXd vdot = guess && guess->size() == s.vdot.size() && guess->allFinite() ? *guess
+                         : history ? Eigen::VectorXd((1 - rs) * s.vdot + rs * s.vdot_prev)
+                                   : s.vdot;
   // With conserved momenta the base's accelerations play two parts (docs/engine-design.md,
   // "Momentum rows and the base's acceleration"): vdot.head(nc) is the base's algorithmic
   // acceleration, set by Pi(q_{n+1}, v_{n+1}) = Pi_n through the Newmark update, and w is the
@@ -93,9 +95,10 @@ int GeneralizedAlpha::step(AlphaState& s, double h) const {
   // Full Newton (a fresh matrix at every iteration) while a reused matrix has lately proved slow.
   bool full = newton_.reuse_jacobian && full_steps_ > 0;
   if (full) --full_steps_;
-  // A step of the same size up to round-off (a run's output times are t0 + k dt, so its steps
-  // differ from dt in the last bits) keeps the matrix.
-  bool refactor = !newton_.reuse_jacobian || !(std::abs(factor_h_ - h) <= 1e-12 * h) || full;
+  // A step of about the same size keeps the matrix (NewtonOptions::step_reuse): the steps of a
+  // run differ from dt in the last bits (output times are t0 + k dt), and an event search's
+  // trial steps converge on the switch.
+  bool refactor = !newton_.reuse_jacobian || !(std::abs(factor_h_ - h) <= newton_.step_reuse * h) || full;
   double previous = 0;
   Eigen::VectorXd last;  // the previous applied increment (dv, db)
   for (int it = 1; it <= newton_.max_iterations; ++it) {

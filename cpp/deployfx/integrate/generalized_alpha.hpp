@@ -51,6 +51,11 @@ struct NewtonOptions {
   /// matrix contracts by only 0.02-0.2 and was refactored about 3 times a step anyway, doubling
   /// the iterations.
   bool reuse_jacobian = true;
+  /// A matrix built for a step size within this relative distance of h is kept for a step of
+  /// size h: its c_q = h^2 beta c is off by twice that, so the iteration contracts at about
+  /// 2 step_reuse on the stiff elastic modes. (An event search's later sizes lie within 1e-3..2e-2
+  /// of each other.)
+  double step_reuse = 0.02;
   double contraction = 0.25;
   double contraction_dense = 0.01;
   int full_newton_steps = 10;
@@ -81,8 +86,9 @@ class GeneralizedAlpha {
   /// A consistent start: solves r(q0, v0, vdot0, t0) = 0 for vdot0; a0 = vdot0.
   AlphaState initial_state(double t0, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0) const;
   /// Advances `s` by h. Throws StepFailure (the state is left unchanged) if Newton fails.
-  /// Returns the number of Newton iterations.
-  int step(AlphaState& s, double h) const;
+  /// Returns the number of Newton iterations. `guess`, if given, is Newton's starting vdot_{n+1}
+  /// in place of the predictor (an event search's interpolation between the bracket's ends).
+  int step(AlphaState& s, double h, const Eigen::VectorXd* guess = nullptr) const;
   const SecondOrderSystem& system() const { return sys_; }
   const AlphaParameters& parameters() const { return p_; }
   /// Numeric factorizations of the iteration matrix so far.

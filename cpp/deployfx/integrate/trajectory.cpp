@@ -18,10 +18,11 @@ constexpr double kMinEventStep = 1e-8;
 constexpr double kEventTolerance = 1e-9;   // on G, the events normalised by their start values
 
 // Advances s by h, halving on Newton failure; returns the Newton iterations spent. On failure
-// s is unchanged and StepFailure propagates.
-int advance(const GeneralizedAlpha& integrator, AlphaState& s, double h, int depth, long* substeps) {
+// s is unchanged and StepFailure propagates. `guess`: Newton's start for the whole step.
+int advance(const GeneralizedAlpha& integrator, AlphaState& s, double h, int depth, long* substeps,
+            const Eigen::VectorXd* guess = nullptr) {
   try {
-    const int it = integrator.step(s, h);
+    const int it = integrator.step(s, h, guess);
     ++*substeps;
     return it;
   } catch (const StepFailure&) {
@@ -116,6 +117,10 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
         // Locate the first root of G in (0, h_k]: secant with the Illinois modification, falling
         // back to bisection when the secant keeps hugging one end; the stop test uses the true G.
         double lo = 0, hi = h_k, G_lo = 1.0, G_hi = G1, w_lo = G_lo, w_hi = G_hi;
+        // Each trial starts Newton from vdot_{n+1} interpolated in the step size between the
+        // bracket's ends (at size 0 it is vdot_n: the equations of motion hold at t_n), not from
+        // the predictor, which knows nothing of the impact: about half the iterations.
+        Eigen::VectorXd vdot_lo = s.vdot;
         AlphaState best = std::move(trial);
         int side = 0, clipped = 0;
         const double width = std::max(kLocateTolerance * h, kMinEventStep);
@@ -125,14 +130,15 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
           if (!(mid > lo + guard && mid < hi - guard)) ++clipped;
           mid = clipped >= 2 ? 0.5 * (lo + hi) : std::min(std::max(mid, lo + guard), hi - guard);
           AlphaState m = s;
+          const Eigen::VectorXd guess = vdot_lo + ((mid - lo) / (hi - lo)) * (best.vdot - vdot_lo);
           try {
-            iterations += advance(integrator, m, mid, 0, &tr.substeps);
+            iterations += advance(integrator, m, mid, 0, &tr.substeps, &guess);
           } catch (const StepFailure&) {
             break;  // a search step Newton cannot take: the event is at the bracket's end hi
           }
           const double G = first_switch(g0, sys.gaps(m.q, m.v, m.t));
           if (G > 0) {
-            lo = mid, G_lo = w_lo = G;
+            lo = mid, G_lo = w_lo = G, vdot_lo = m.vdot;
             if (side == -1) w_hi *= 0.5;  // Illinois: keep the stale end from stalling
             side = -1;
           } else {
