@@ -119,7 +119,7 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
         double lo = 0, hi = h_k, G_lo = 1.0, G_hi = G1, w_lo = G_lo, w_hi = G_hi;
         // Each trial starts Newton from vdot_{n+1} interpolated in the step size between the
         // bracket's ends (at size 0 it is vdot_n: the equations of motion hold at t_n), not from
-        // the predictor, which knows nothing of the impact: about half the iterations.
+        // the predictor, which knows nothing of the impact.
         Eigen::VectorXd vdot_lo = s.vdot;
         AlphaState best = std::move(trial);
         int side = 0, clipped = 0;
