@@ -83,21 +83,19 @@ Eigen::VectorXd BorderedSolver::solve_elastic(const Eigen::VectorXd& r) const {
 bool BorderedSolver::factorize(const BlockMatrix& S) {
   nb_ = S.border();
   ne_ = S.elastic();
-  method_ = Method::kExact;
+  method_ = Method::kDense;  // without an elastic block the Schur complement is all of S
   ++factorizations_;
   Eigen::MatrixXd schur = S.A;
   if (ne_ > 0) {
     if (!S.E.isCompressed()) return false;
-    // The pattern of E is fixed by the mesh; re-analyse only if it changed.
-    if (S.E.nonZeros() != pattern_nnz_ || S.E.rows() != pattern_rows_) analyze(S.E);
     C_ = S.C;
     if (2 * static_cast<double>(S.E.nonZeros()) >= static_cast<double>(ne_) * ne_) {
-      method_ = Method::kDense;
       if (!factorize_dense(S.E)) return false;
-    } else if (factorize_symmetric(S.E)) {
-      method_ = Method::kSymmetric;
-    } else if (!factorize_exact(S.E)) {
-      return false;
+    } else {
+      // The pattern of E is fixed by the mesh; re-analyse only if it changed.
+      if (S.E.nonZeros() != pattern_nnz_ || S.E.rows() != pattern_rows_) analyze(S.E);
+      method_ = factorize_symmetric(S.E) ? Method::kSymmetric : Method::kExact;
+      if (method_ == Method::kExact && !factorize_exact(S.E)) return false;
     }
     B_ = S.B;
     A_ = S.A;

@@ -32,6 +32,9 @@ class BorderedSolver {
   bool factorize(const BlockMatrix& S);
   /// x = S^-1 r for the last factorized S.
   Eigen::VectorXd solve(const Eigen::VectorXd& r) const;
+  /// Whether the last S was dense throughout (no elastic block, or one half full or more): its
+  /// factorization then costs about a residual (the integrator's reuse policy reads this).
+  bool dense() const { return method_ == Method::kDense; }
   /// Numeric factorizations done so far (for cost accounting).
   long factorizations() const { return factorizations_; }
 

@@ -114,7 +114,6 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const bool fresh = refactor;
     if (fresh) {
       const BlockMatrix S = sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c);
-      dense_matrix_ = 2.0 * static_cast<double>(S.E.nonZeros()) >= static_cast<double>(S.elastic()) * S.elastic();
       if (!solver_.factorize(S)) throw fail("the iteration matrix is singular");
       if (nc) {  // d/dvdot of the momentum rows above
         momentum_jacobian_ = sys_.momentum_jacobian(q1, v1, 1.0, h * beta / gamma);
@@ -134,8 +133,8 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
                            : dv.lpNorm<Eigen::Infinity>();
     if (!std::isfinite(size)) throw fail("the Newton increment is not finite");
     const double rho = previous > 0 ? size / previous : 0.0;
-    const double contraction = dense_matrix_ ? newton_.contraction_dense : newton_.contraction;
-    if (!fresh && dense_matrix_ && rho > contraction && newton_.full_newton_steps > 0) {
+    const double contraction = solver_.dense() ? newton_.contraction_dense : newton_.contraction;
+    if (!fresh && solver_.dense() && rho > contraction && newton_.full_newton_steps > 0) {
       // Reuse does not pay here: full Newton for the rest of this step and the next few.
       full_steps_ = newton_.full_newton_steps;
       full = true;
@@ -192,7 +191,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     previous = size;
   }
   factor_h_ = -1;
-  if (newton_.reuse_jacobian && dense_matrix_) full_steps_ = newton_.full_newton_steps;  // the retry: full Newton
+  if (newton_.reuse_jacobian && solver_.dense()) full_steps_ = newton_.full_newton_steps;  // the retry: full Newton
   std::ostringstream e;
   e << "Newton did not converge at t = " << t1 << " s (step " << h << " s) in "
     << newton_.max_iterations << " iterations";

@@ -102,10 +102,8 @@ class GeneralizedAlpha {
   // Scratch of one run: the factorized iteration matrix and the step size it was built for.
   mutable BorderedSolver solver_;
   mutable double factor_h_ = -1;
-  // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps),
-  // and whether the last matrix factorized was dense (its elastic block, if any, half full).
+  // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps).
   mutable int full_steps_ = 0;
-  mutable bool dense_matrix_ = false;
   // With conserved momenta: dPi/dvdot of the momentum rows at the last factorization, and the LU
   // of its base columns.
   mutable Eigen::MatrixXd momentum_jacobian_;
