@@ -91,7 +91,8 @@ def main() -> None:
     meshes = args.meshes or (["4x2", "6x4"] if args.quick else ["4x2", "6x4", "15x10"])
     models = ["rigid"] + [m for m in args.models if m != "rigid"]  # the baseline runs first
 
-    print(f"paper2016 lay-up 2, t_end = {t_end:g} s, dt = {args.dt:g} s, generalized-alpha rho_inf = 0.8")
+    print(f"paper2016 lay-up 2, t_end = {t_end:g} s, dt = {args.dt:g} s, generalized-alpha rho_inf = 0.8; "
+          f"core built for {dfx._core.simd}")
     head = (f"{'model':17s} {'mesh':>6s} {'dofs':>5s} {'setup (s)':>9s} {'wall (s)':>9s} {'s/sim s':>8s} {'ms/step':>8s} "
             f"{'newton/step':>11s} {'fact/step':>9s} {'vs rigid':>9s} {'vs floor':>9s} {'lock (s)':>8s}")
     print(head)

@@ -190,7 +190,7 @@ def main() -> None:
 
     print(f"paper2016 lay-up {args.layup}, t_end = {args.t_end:g} s; sweeps "
           f"{' '.join(args.sweeps)}; base {base_mesh}, dt {args.base_dt:g} s, GA(0.8); "
-          f"reference {ref.name}; {len(cases)} cases")
+          f"reference {ref.name}; {len(cases)} cases; core built for {dfx._core.simd}")
     start = time.perf_counter()
     reference = saved_reference(args, ref) or ref
 
