@@ -12,6 +12,7 @@ import json
 
 import numpy as np
 import pytest
+from scipy.sparse.linalg import eigsh
 
 import deployfx as dfx
 from deployfx import _core, scenes
@@ -75,6 +76,70 @@ def test_ritz_basis_holds_the_clamped_modes():
     f_hz, _ = shell.modes(6, sc.model.fixed_dofs)
     np.testing.assert_allclose(info["omega2"][:6], (2 * np.pi * f_hz) ** 2, rtol=1e-8)
     assert np.all(Phi[list(sc.model.fixed_dofs)] == 0.0)  # clamped root
+
+
+def _parities(Phi):
+    """Each column's parity: "b" if exactly zero on every in-plane dof (u, v, theta_z), "m" if
+    exactly zero on every bending dof (w, theta_x, theta_y), else "mixed"."""
+    bending = np.isin(np.arange(Phi.shape[0]) % 6, (2, 3, 4))
+    out = []
+    for x in Phi.T:
+        b, m = np.any(x[bending] != 0), np.any(x[~bending] != 0)
+        out.append("mixed" if b and m else "b" if b else "m")
+    return out
+
+
+def _reduced_panel(angles, nx, ny, modes):
+    """A free-floating base and a reduced-nonlinear lay-up `angles` panel on one hinge."""
+    lam = dfx.Laminate.from_angles(dfx.paper2016.IM6_SC1081, dfx.paper2016.PLY_THICKNESS, angles)
+    plate = dfx.Plate(2.0, 1.3, lam, nx=nx, ny=ny)
+    return (dfx.Scene()
+            .set_base(mass=3000.0, inertia=500.0)
+            .set_hinge(point=(0.83, 0, 0), axis=(0, 1, 0), tau0=7.2, k_theta=4.58)
+            .set_appendage(plate.model, plate.fixed_dofs("CFFF"), fidelity="reduced-nonlinear", modes=modes)
+            .compile())
+
+
+@pytest.mark.parametrize("angles,split", [((0, 90, 90, 0), True), ((0, 90), False)])
+def test_the_basis_splits_by_parity_where_the_laminate_decouples(angles, split):
+    # A flat laminate with no membrane-bending coupling (B = 0: a mirror-symmetric lay-up, Jones,
+    # Mechanics of Composite Materials 1999, Sec. 4.3.1) bends independently of its in-plane motion,
+    # and Green strain's quadratic term keeps the parity (Eq. 14): the Ritz vectors are each exactly
+    # bending or exactly in-plane, and the quartic coefficients fall into two blocks, the pairs of
+    # equal parity and the mixed pairs (fem/parity.hpp). The cross-ply [0, 90] couples the two
+    # (B != 0): mixed vectors, one block. Either way the basis is M-orthonormal to round-off
+    # (Gram-Schmidt twice, 1e-12) and holds the clamped modes (Rayleigh-Ritz: the first eight Ritz
+    # values are ARPACK's eigenvalues, 1e-8), and the modal force is the projected shell force
+    # (1e-9) far beyond the linear range.
+    model = _reduced_panel(angles, 6, 4, modes=8)
+    Phi, info, shell = model.basis, model.basis_info, model.shell
+    par = _parities(Phi)
+    nb, nm = par.count("b"), par.count("m")
+    force = _core.ModalInternalForce(shell._impl, Phi, True)
+    r = Phi.shape[1]
+    if split:
+        assert "mixed" not in par and nb > 0 and nm > 0
+        assert force.quartic_blocks == [nb * (nb + 1) // 2 + nm * (nm + 1) // 2, nb * nm]
+    else:
+        assert par.count("mixed") == r
+        assert force.quartic_blocks == [r * (r + 1) // 2]
+    M, K = shell.mass_matrix(), shell.stiffness_matrix()
+    np.testing.assert_allclose(Phi.T @ (M @ Phi), np.eye(r), atol=1e-12)
+    KR = Phi.T @ (K @ Phi)
+    np.testing.assert_allclose(KR, np.diag(info["omega2"]), atol=1e-8 * np.abs(KR).max())
+    free = model.free_dofs
+    lam = eigsh(K.tocsc()[free][:, free], k=8, M=M.tocsc()[free][:, free], sigma=0.0, tol=1e-14,
+                return_eigenvectors=False)
+    np.testing.assert_allclose(info["omega2"][:8], np.sort(lam), rtol=1e-8)
+    rng = np.random.default_rng(4)
+    for _ in range(2):
+        eta = rng.standard_normal(r) * 0.1 / np.abs(Phi).max()
+        f, K_T = shell.internal_force(Phi @ eta)
+        f_r, T_r = force.internal_force(eta)
+        np.testing.assert_allclose(f_r, Phi.T @ f, rtol=0, atol=1e-9 * np.abs(Phi.T @ f).max())
+        T_full = Phi.T @ (K_T @ Phi)
+        np.testing.assert_allclose(T_r, T_full, rtol=0, atol=1e-9 * np.abs(T_full).max())
+        assert force.strain_energy(eta) == pytest.approx(shell.strain_energy(Phi @ eta), rel=1e-9)
 
 
 def _complete_pair(full, reduced, **overrides):

@@ -60,6 +60,9 @@ void define_fem(py::module_& m) {
            }),
            py::arg("model"), py::arg("basis"), py::arg("green_strain"))
       .def_property_readonly("linear_stiffness", &ModalInternalForce::linear_stiffness)
+      .def_property_readonly("quartic_blocks", &ModalInternalForce::quartic_blocks,
+                             "The sizes of the quartic coefficients' diagonal blocks: one block, or two when "
+                             "every basis vector is exactly bending or exactly in-plane (fem/parity.hpp).")
       .def("internal_force",
            [](const ModalInternalForce& f, const Eigen::VectorXd& eta) {
              Eigen::VectorXd out;

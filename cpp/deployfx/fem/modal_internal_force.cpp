@@ -1,5 +1,8 @@
 #include "deployfx/fem/modal_internal_force.hpp"
 
+#include "deployfx/fem/parity.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -62,16 +65,46 @@ ModalInternalForce::ModalInternalForce(const ShellModel& model, const Eigen::Mat
   for (int i = 0, p = 0; i < r; ++i)
     for (int j = i; j < r; ++j, ++p) pair[i * r + j] = pair[j * r + i] = p;
   auto P = [&](int i, int j) { return pair[static_cast<std::size_t>(i) * r + j]; };
-  A_.resize(np, r);
+  // The slots: when every vector has one parity, the pairs of equal parity first, then the mixed.
+  std::vector<Parity> parity(r);
+  for (int i = 0; i < r; ++i) parity[i] = vector_parity(Phi.col(i));
+  const bool pure = std::none_of(parity.begin(), parity.end(), [](Parity p) { return p == Parity::kMixed; });
+  auto first_pass = [&](int i, int j) { return !pure || parity[i] == parity[j]; };
   for (int i = 0; i < r; ++i)
     for (int j = i; j < r; ++j)
-      for (int k = 0; k < r; ++k) A_(P(i, j), k) = D(P(i, j), k) + D(P(i, k), j) + D(P(j, k), i);
-  B_.resize(np, np);
-  for (int k = 0; k < r; ++k)
-    for (int l = k; l < r; ++l)
-      for (int i = 0; i < r; ++i)
-        for (int j = i; j < r; ++j)
-          B_(P(i, j), P(k, l)) = C(P(i, j), P(k, l)) + C(P(i, k), P(j, l)) + C(P(i, l), P(j, k));
+      if (first_pass(i, j)) slots_.emplace_back(i, j);
+  const int n_equal = static_cast<int>(slots_.size());
+  for (int i = 0; i < r; ++i)
+    for (int j = i; j < r; ++j)
+      if (!first_pass(i, j)) slots_.emplace_back(i, j);
+  auto B = [&](int s, int t) {
+    const auto [i, j] = slots_[s];
+    const auto [k, l] = slots_[t];
+    return C(P(i, j), P(k, l)) + C(P(i, k), P(j, l)) + C(P(i, l), P(j, k));
+  };
+  A_.resize(np, r);
+  for (int s = 0; s < np; ++s) {
+    const auto [i, j] = slots_[s];
+    for (int k = 0; k < r; ++k) A_(s, k) = D(P(i, j), k) + D(P(i, k), j) + D(P(j, k), i);
+  }
+  // Two blocks if B has no entry between them, exactly (it has none by parity: each of its three
+  // terms has a mixed pair, whose Q_a vanish).
+  bool split = n_equal > 0 && n_equal < np;
+  for (int t = n_equal; split && t < np; ++t)
+    for (int s = 0; split && s < n_equal; ++s) split = B(s, t) == 0.0;
+  const std::vector<int> blocks = split ? std::vector<int>{0, n_equal, np} : std::vector<int>{0, np};
+  for (std::size_t b = 0; b + 1 < blocks.size(); ++b) {
+    const int first = blocks[b], n = blocks[b + 1] - first;
+    Eigen::MatrixXd& Bb = B_blocks_.emplace_back(n, n);
+    for (int t = 0; t < n; ++t)
+      for (int s = 0; s <= t; ++s) Bb(s, t) = Bb(t, s) = B(first + s, first + t);
+  }
+}
+
+std::vector<int> ModalInternalForce::quartic_blocks() const {
+  std::vector<int> sizes;
+  for (const Eigen::MatrixXd& Bb : B_blocks_) sizes.push_back(static_cast<int>(Bb.rows()));
+  return sizes;
 }
 
 void ModalInternalForce::polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A,
@@ -83,21 +116,27 @@ void ModalInternalForce::polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd*
     return;
   }
   const int r = size();
-  Eigen::VectorXd pairs(r * (r + 1) / 2);  // eta_k eta_l, twice for k < l (B_kl = B_lk)
-  int col = 0;
-  for (int k = 0; k < r; ++k)
-    for (int l = k; l < r; ++l) pairs(col++) = (l == k ? 1.0 : 2.0) * eta(k) * eta(l);
+  const int np = static_cast<int>(slots_.size());
+  Eigen::VectorXd pairs(np);  // eta_k eta_l, twice for k < l (B_kl = B_lk)
+  for (int s = 0; s < np; ++s) {
+    const auto [k, l] = slots_[s];
+    pairs(s) = (l == k ? 1.0 : 2.0) * eta(k) * eta(l);
+  }
   const Eigen::VectorXd a = A_ * eta;
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(pairs.size());
-  b.noalias() += B_.selfadjointView<Eigen::Upper>() * pairs;
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(np);
+  int first = 0;
+  for (const Eigen::MatrixXd& Bb : B_blocks_) {
+    const int n = static_cast<int>(Bb.rows());
+    b.segment(first, n).noalias() += Bb.selfadjointView<Eigen::Upper>() * pairs.segment(first, n);
+    first += n;
+  }
   A->resize(r, r);
   B->resize(r, r);
-  int p = 0;
-  for (int i = 0; i < r; ++i)
-    for (int j = i; j < r; ++j, ++p) {
-      (*A)(i, j) = (*A)(j, i) = a(p);
-      (*B)(i, j) = (*B)(j, i) = b(p);
-    }
+  for (int s = 0; s < np; ++s) {
+    const auto [i, j] = slots_[s];
+    (*A)(i, j) = (*A)(j, i) = a(s);
+    (*B)(i, j) = (*B)(j, i) = b(s);
+  }
   memo_.eta = eta;
   memo_.A = *A;
   memo_.B = *B;

@@ -11,6 +11,8 @@
 // over the mesh. Linear strain keeps K only.
 #include <Eigen/Core>
 #include <mutex>
+#include <utility>
+#include <vector>
 
 #include "deployfx/fem/shell_model.hpp"
 
@@ -24,6 +26,8 @@ class ModalInternalForce {
 
   int size() const { return static_cast<int>(K_.rows()); }
   bool green_strain() const { return green_; }
+  /// The sizes of B's diagonal blocks (empty for linear strain; see B_blocks_).
+  std::vector<int> quartic_blocks() const;
   /// K = Phi^T K_L Phi, (r x r).
   const Eigen::MatrixXd& linear_stiffness() const { return K_; }
   /// f(eta) and/or T(eta) (either may be null).
@@ -37,12 +41,16 @@ class ModalInternalForce {
   void polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A, Eigen::MatrixXd* B) const;
   bool green_ = false;
   Eigen::MatrixXd K_;
-  // The coefficients on the pairs i <= j (every A_k and B_kl is symmetric, as T is): A_ is
-  // (r (r + 1) / 2 x r), column k the packed A_k; B_ is (r (r + 1) / 2)^2, column p(k, l) the
-  // packed B_kl, and symmetric (B_kl(i, j) = d^4 U / d eta_i d eta_j d eta_k d eta_l): a
-  // product reads its upper triangle only, a quarter of the unpacked (r^2 x r (r + 1) / 2) array.
+  // The coefficients on the pairs i <= j (every A_k and B_kl is symmetric, as T is), packed in
+  // slots_ order: A_ is (r (r + 1) / 2 x r), column k the packed A_k; B is (r (r + 1) / 2)^2,
+  // column p(k, l) the packed B_kl, and symmetric (B_kl(i, j) = d^4 U / d eta_i d eta_j d eta_k
+  // d eta_l): a product reads its upper triangle only. B is kept as its diagonal blocks over
+  // consecutive slots, B_blocks_, which are all of it: one block in general; two (the pairs of
+  // equal parity, then the mixed ones) when every basis vector is exactly bending or exactly
+  // in-plane (parity.hpp) and B has no entry between the two, half the entries of one.
+  std::vector<std::pair<int, int>> slots_;
   Eigen::MatrixXd A_;
-  Eigen::MatrixXd B_;
+  std::vector<Eigen::MatrixXd> B_blocks_;
   // The memo of polynomial(): a pure function's last value, shared by threads under its lock.
   // A copy starts empty.
   struct Memo {

@@ -9,7 +9,9 @@
 //   49, 1985), the in-plane motion that large bending drags along, without which a bending-only
 //   basis stretches the mid-surface and stiffens spuriously.
 // The span is orthonormalised in M and rotated to Ritz vectors (Phi^T M Phi = I,
-// Phi^T K Phi = diag(omega2)), so the reduced linear model is diagonal.
+// Phi^T K Phi = diag(omega2)), so the reduced linear model is diagonal. Where K and M decouple
+// bending from in-plane motion (a flat symmetric laminate, parity.hpp), this is done in each
+// parity's part of the span: every vector is exactly one or the other, not mixed by round-off.
 #include <Eigen/Core>
 #include <vector>
 
