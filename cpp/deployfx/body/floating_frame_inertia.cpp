@@ -72,11 +72,14 @@ FloatingFrameInertia FloatingFrameInertia::projected(const Eigen::MatrixXd& Phi)
   p.E0_ = E0_;
   p.S1_ = S1_ * Phi;
   p.C_ = C_ * Phi;
-  // Dense r x r: products with them run as dense matrix-vector products.
+  // Dense r x r, stacked: the nine products with them are one dense matrix-vector product.
   p.dense_ = true;
-  for (int k = 0; k < 9; ++k)
-    p.Mij_dense_[k] = dense_ ? Eigen::MatrixXd(Phi.transpose() * Mij_dense_[k] * Phi)
-                             : Eigen::MatrixXd(Phi.transpose() * (Mij_[k] * Phi));
+  const Eigen::Index r = Phi.cols(), n = num_dofs();
+  p.Mij_stacked_.resize(9 * r, r);
+  for (int k = 0; k < 9; ++k) {
+    if (dense_) p.Mij_stacked_.middleRows(k * r, r) = Phi.transpose() * Mij_stacked_.middleRows(k * n, n) * Phi;
+    else p.Mij_stacked_.middleRows(k * r, r) = Phi.transpose() * (Mij_[k] * Phi);
+  }
   const Eigen::MatrixXd M = Phi.transpose() * (M_ * Phi);
   p.M_ = M.sparseView(0.0, 0.0);  // keep every nonzero
   return p;
@@ -89,15 +92,19 @@ Eigen::Matrix3d FloatingFrameInertia::J0() const {
 FloatingFrameInertia::SparseMatrix FloatingFrameInertia::Mij(int i, int j) const {
   if (i < 0 || i > 2 || j < 0 || j > 2)
     throw std::invalid_argument("Mij: components i, j must be in {0, 1, 2}");
-  if (dense_) return Mij_dense_[3 * i + j].sparseView(0.0, 0.0);
+  const int n = num_dofs();
+  if (dense_) return Eigen::MatrixXd(Mij_stacked_.middleRows((3 * i + j) * n, n)).sparseView(0.0, 0.0);
   return Mij_[3 * i + j];
 }
 
 FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::VectorXd& z) const {
   Products P;
-  for (int k = 0; k < 9; ++k) {
-    if (dense_) P[k].noalias() = Mij_dense_[k] * z;
-    else P[k] = Mij_[k] * z;
+  if (dense_) {
+    const Eigen::VectorXd all = Mij_stacked_ * z;
+    const Eigen::Index n = z.size();
+    for (int k = 0; k < 9; ++k) P[k] = all.segment(k * n, n);
+  } else {
+    for (int k = 0; k < 9; ++k) P[k] = Mij_[k] * z;
   }
   return P;
 }

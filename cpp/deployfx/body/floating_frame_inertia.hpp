@@ -128,10 +128,11 @@ class FloatingFrameInertia {
   Eigen::Matrix3d E0_;
   Matrix3X S1_;
   Eigen::Matrix<double, 9, Eigen::Dynamic> C_;
-  // The nine int rho N_i^T N_j (index 3 i + j): sparse on the mesh's pattern, or dense r x r in
-  // a Ritz basis (projected(); every entry is then nonzero).
+  // The nine int rho N_i^T N_j (index k = 3 i + j): sparse on the mesh's pattern, or, in a Ritz
+  // basis (projected(); every entry is then nonzero), dense and stacked, rows k r .. k r + r - 1
+  // of a (9 r x r) matrix, so that the nine products are one.
   std::array<SparseMatrix, 9> Mij_;
-  std::array<Eigen::MatrixXd, 9> Mij_dense_;
+  Eigen::MatrixXd Mij_stacked_;
   bool dense_ = false;
   SparseMatrix M_;
 };
