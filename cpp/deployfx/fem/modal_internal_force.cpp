@@ -1,12 +1,12 @@
 #include "deployfx/fem/modal_internal_force.hpp"
 
-#include "deployfx/fem/parity.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "deployfx/fem/parity.hpp"
 
 namespace deployfx::fem {
 
