@@ -119,9 +119,9 @@ Eigen::VectorXd BorderedSolver::solve_factorized(const Eigen::VectorXd& r) const
   return x;
 }
 
-Eigen::VectorXd BorderedSolver::solve(const Eigen::VectorXd& r) const {
+Eigen::VectorXd BorderedSolver::solve(const Eigen::VectorXd& r, bool exact) const {
   Eigen::VectorXd x = solve_factorized(r);
-  if (method_ != Method::kSymmetric) return x;
+  if (method_ != Method::kSymmetric || !exact) return x;
   // Iterative refinement against S itself, with the factorization of [A B; C Es] as the
   // preconditioner: each step shrinks the error by the radius of Es^-1 Ek (<= skew_tolerance), to
   // 1e-8 of x (on Newton's last increments, 1e-10 of the accelerations, an error of 1e-18):

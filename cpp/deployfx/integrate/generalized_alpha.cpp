@@ -125,7 +125,10 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     // Newton on (w, the other accelerations) with the iteration matrix of the balance rows, then
     // the base's algorithmic acceleration from the momentum rows. (The residual's dependence on
     // vdot.head(nc) through q_{n+1}, v_{n+1} is attributed to w: the two differ by O(h).)
-    const Eigen::VectorXd dv = solver_.solve(r);
+    // Only a fresh matrix's solve is exact: the convergence test below trusts an exact Newton
+    // step at the round-off floor; an old matrix's step is inexact by more than the solve's
+    // dropped skew part (BorderedSolver::solve).
+    const Eigen::VectorXd dv = solver_.solve(r, fresh);
     const Eigen::VectorXd db =
         nc ? Eigen::VectorXd(momentum_lu_.solve(rm - momentum_jacobian_.rightCols(n - nc) * dv.tail(n - nc)))
            : Eigen::VectorXd();
