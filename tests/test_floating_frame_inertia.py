@@ -55,6 +55,24 @@ def test_component_masses_add_up_to_the_element_mass(setup):
             np.testing.assert_allclose(ffi.Mij(i, j).toarray(), ffi.Mij(j, i).toarray().T, atol=1e-16)
 
 
+def test_products_read_each_pair_of_mass_blocks_once(setup):
+    # products() forms M_ji z as (M_ij^T) z in the pass over M_ij (M_ji = M_ij^T, checked above):
+    # each of the nine must equal the sparse product with its own block to round-off (1e-14 of
+    # |M_ij| |z|, the summation order differing).
+    _, plate, ffi = setup
+    z = np.random.default_rng(3).normal(size=plate.model.num_dofs)
+    P = ffi.products(z)
+    assert len(P) == 9
+    for i in range(3):
+        for j in range(3):
+            Mij = ffi.Mij(i, j)
+            ref = Mij @ z
+            scale = abs(Mij).max() * np.abs(z).sum()
+            assert np.abs(P[3 * i + j] - ref).max() <= 1e-14 * scale, (i, j)
+    with pytest.raises(ValueError, match="z has wrong size"):
+        ffi.products(z[:-1])
+
+
 def material_points(lam):
     """Quadrature over the volume, independent of the package: 4x4 Gauss points per element and
     3 per ply. Yields the reference position P, the displacement operator Nop (3 x ndof) of the

@@ -1,5 +1,6 @@
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include "deployfx/body/floating_frame_inertia.hpp"
 
@@ -24,9 +25,13 @@ void define_body(py::module_& m) {
       .def_property_readonly("C", &FloatingFrameInertia::C)
       .def_property_readonly("M", &FloatingFrameInertia::M)
       .def("Mij", &FloatingFrameInertia::Mij, py::arg("i"), py::arg("j"))
+      .def("products", &FloatingFrameInertia::products, py::arg("z"),
+           "The nine M_ij z, index 3 i + j, that the d-dependent integrals are built from.")
       .def("first_moment", &FloatingFrameInertia::first_moment, py::arg("d"))
-      .def("inertia_tensor", &FloatingFrameInertia::inertia_tensor, py::arg("d"))
-      .def("rotation_coupling", &FloatingFrameInertia::rotation_coupling, py::arg("d"))
+      .def("inertia_tensor", py::overload_cast<const Eigen::VectorXd&>(&FloatingFrameInertia::inertia_tensor, py::const_),
+           py::arg("d"))
+      .def("rotation_coupling",
+           py::overload_cast<const Eigen::VectorXd&>(&FloatingFrameInertia::rotation_coupling, py::const_), py::arg("d"))
       .def("kinetic_energy", &FloatingFrameInertia::kinetic_energy, py::arg("V"), py::arg("w"),
            py::arg("d"), py::arg("dd"))
       .def("inertia_tensor_rate", &FloatingFrameInertia::inertia_tensor_rate, py::arg("d"), py::arg("dd"))

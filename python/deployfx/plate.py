@@ -114,7 +114,8 @@ class ShellModel:
         """The inertia shape integrals of this mesh as a body in a floating frame (You et al.
         2016 Eq. 9, 28): ``mass``, ``S0``, ``J0``, ``S1`` (P_A), ``C``, ``Mij(i, j)``, ``M``
         (L_c), and ``first_moment(d)``, ``inertia_tensor(d)``, ``rotation_coupling(d)``,
-        ``kinetic_energy(V, w, d, dd)`` for the dofs ``d`` in the model's axes (SI units)."""
+        ``kinetic_energy(V, w, d, dd)`` for the dofs ``d`` in the model's axes (SI units);
+        ``products(z)``: the nine ``Mij(i, j) @ z`` (index 3 i + j) they are built from."""
         return _core.FloatingFrameInertia(self._impl)
 
     def modes(self, n: int, fixed_dofs: Sequence[int] = ()) -> Tuple[np.ndarray, np.ndarray]:

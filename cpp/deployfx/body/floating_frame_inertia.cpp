@@ -98,13 +98,38 @@ FloatingFrameInertia::SparseMatrix FloatingFrameInertia::Mij(int i, int j) const
 }
 
 FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::VectorXd& z) const {
+  check(z, "z");
   Products P;
+  const Eigen::Index n = z.size();
   if (dense_) {
     const Eigen::VectorXd all = Mij_stacked_ * z;
-    const Eigen::Index n = z.size();
     for (int k = 0; k < 9; ++k) P[k] = all.segment(k * n, n);
-  } else {
-    for (int k = 0; k < 9; ++k) P[k] = Mij_[k] * z;
+    return P;
+  }
+  // A sparse product streams its matrix from memory: with M_ji = M_ij^T, one pass over M_ij
+  // (column-major) gives both y = M_ij z (scattered by row) and y' = M_ji z (gathered by column),
+  // six passes instead of nine.
+  for (int i = 0; i < 3; ++i) {
+    P[4 * i] = Mij_[4 * i] * z;
+    for (int j = i + 1; j < 3; ++j) {
+      const SparseMatrix& A = Mij_[3 * i + j];
+      Eigen::VectorXd& y = P[3 * i + j];
+      Eigen::VectorXd& yt = P[3 * j + i];
+      y.setZero(n);
+      yt.resize(n);
+      const int* outer = A.outerIndexPtr();
+      const int* row = A.innerIndexPtr();
+      const double* val = A.valuePtr();
+      for (Eigen::Index c = 0; c < n; ++c) {
+        const double zc = z(c);
+        double sum = 0;
+        for (int k = outer[c]; k < outer[c + 1]; ++k) {
+          y(row[k]) += val[k] * zc;
+          sum += val[k] * z(row[k]);
+        }
+        yt(c) = sum;
+      }
+    }
   }
   return P;
 }
@@ -121,21 +146,27 @@ Eigen::Vector3d FloatingFrameInertia::first_moment(const Eigen::VectorXd& d) con
 }
 
 Eigen::Matrix3d FloatingFrameInertia::inertia_tensor(const Eigen::VectorXd& d) const {
+  return inertia_tensor(d, products(d));
+}
+
+Eigen::Matrix3d FloatingFrameInertia::inertia_tensor(const Eigen::VectorXd& d, const Products& Pd) const {
   check(d, "d");
   // E(d) = E0 + c + c^T + q with c_ij = int rho P_i u_j, q_ij = int rho u_i u_j.
   Eigen::Matrix3d E = E0_;
   const Eigen::Matrix<double, 9, 1> c = C_ * d;
-  const Products Pd = products(d);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) E(i, j) += c(3 * i + j) + c(3 * j + i) + d.dot(Pd[3 * i + j]);
   return E.trace() * Eigen::Matrix3d::Identity() - E;
 }
 
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Eigen::VectorXd& d) const {
-  check(d, "d");
+  return rotation_coupling(products(d));
+}
+
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Products& Pd) const {
+  check(Pd[0], "Pd");
   // (P + u)~ N row-wise: x: P_y N_z - P_z N_y (and cyclic), the u-part from M_ij.
   Matrix3X H(3, num_dofs());
-  const Products Pd = products(d);
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
     H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
@@ -146,8 +177,9 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Eig
 double FloatingFrameInertia::kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
                                             const Eigen::VectorXd& d, const Eigen::VectorXd& dd) const {
   check(dd, "dd");
+  const Products Pd = products(d);
   return 0.5 * m_ * V.dot(V) + V.dot(w.cross(first_moment(d))) + V.dot(S1_ * dd) +
-         0.5 * w.dot(inertia_tensor(d) * w) + w.dot(rotation_coupling(d) * dd) + 0.5 * dd.dot(M_ * dd);
+         0.5 * w.dot(inertia_tensor(d, Pd) * w) + w.dot(rotation_coupling(Pd) * dd) + 0.5 * dd.dot(M_ * dd);
 }
 
 Eigen::Matrix3d FloatingFrameInertia::inertia_tensor_rate(const Eigen::VectorXd& d,
@@ -209,7 +241,8 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Prod
   return D;
 }
 
-FloatingFrameInertia::Matrix3X FloatingFrameInertia::coupling_jacobian(const Products& P) {
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling_jacobian(const Products& P) {
+  // Row i = (M_jk y - M_kj y)^T, (i, j, k) cyclic.
   Matrix3X D(3, P[0].size());
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
@@ -224,6 +257,12 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_tensor_jacobian(con
   return contract_inertia(products(d), true, x);
 }
 
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_tensor_jacobian(const Products& Pd,
+                                                                             const Eigen::Vector3d& x) const {
+  check(Pd[0], "Pd");
+  return contract_inertia(Pd, true, x);
+}
+
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_rate_jacobian(const Eigen::VectorXd& dd,
                                                                            const Eigen::Vector3d& x) const {
   check(dd, "dd");
@@ -232,7 +271,7 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_rate_jacobian(const
 
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling_jacobian(const Eigen::VectorXd& y) const {
   check(y, "y");
-  return coupling_jacobian(products(y));
+  return rotation_coupling_jacobian(products(y));
 }
 
 FloatingFrameInertia::StateIntegrals FloatingFrameInertia::state_integrals(
@@ -341,8 +380,8 @@ FloatingFrameInertia::ForceJacobians FloatingFrameInertia::inertial_force_jacobi
   out.FM_dd << 2.0 * W * S1_, Dw + W * H;
   out.FM_d.resize(6, n);
   out.FM_d << (skew(al) + W * W) * S1_,
-      -skew(a) * S1_ + contract_inertia(Pd, true, al) + coupling_jacobian(Pddd) + W * Dw +
-          contract_inertia(Pdd, false, w) + W * coupling_jacobian(Pdd);
+      -skew(a) * S1_ + contract_inertia(Pd, true, al) + rotation_coupling_jacobian(Pddd) + W * Dw +
+          contract_inertia(Pdd, false, w) + W * rotation_coupling_jacobian(Pdd);
   return out;
 }
 

@@ -42,12 +42,20 @@ class FloatingFrameInertia {
   SparseMatrix Mij(int i, int j) const;
   const SparseMatrix& M() const { return M_; }              ///< L_c: the element mass matrix
 
+  /// The products M_ij z (index k = 3 i + j) that every d-dependent integral below is built
+  /// from: the cost of those integrals. A caller that needs several at one d forms them once and
+  /// passes them to the overloads taking `Products`.
+  using Products = std::array<Eigen::VectorXd, 9>;
+  Products products(const Eigen::VectorXd& z) const;
+
   /// s(d) = S0 + S1 d, the first moment of the deformed body, kg m.
   Eigen::Vector3d first_moment(const Eigen::VectorXd& d) const;
-  /// J(d) about E's origin, kg m^2.
+  /// J(d) about E's origin, kg m^2 (Pd: products(d)).
   Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d) const;
+  Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d, const Products& Pd) const;
   /// H(d) = int rho (P + u)~ N, the rotation-elastic coupling (H_A and kin), (3 x ndof).
   Matrix3X rotation_coupling(const Eigen::VectorXd& d) const;
+  Matrix3X rotation_coupling(const Products& Pd) const;
   /// Kinetic energy for frame velocity V, angular velocity w (E axes), d and its rate dd, J.
   double kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
                         const Eigen::VectorXd& d, const Eigen::VectorXd& dd) const;
@@ -63,10 +71,12 @@ class FloatingFrameInertia {
 
   /// d(J(d) x)/dd for a fixed vector x, (3 x ndof). Also J'(d, dd) x = this(d, x) dd.
   Matrix3X inertia_tensor_jacobian(const Eigen::VectorXd& d, const Eigen::Vector3d& x) const;
+  Matrix3X inertia_tensor_jacobian(const Products& Pd, const Eigen::Vector3d& x) const;
   /// d(J'(d, dd) x)/dd for fixed dd and x, (3 x ndof).
   Matrix3X inertia_rate_jacobian(const Eigen::VectorXd& dd, const Eigen::Vector3d& x) const;
-  /// d(H(d) y)/dd for a fixed y (independent of d), (3 x ndof).
+  /// d(H(d) y)/dd for a fixed y (independent of d), (3 x ndof) (Py: products(y)).
   Matrix3X rotation_coupling_jacobian(const Eigen::VectorXd& y) const;
+  static Matrix3X rotation_coupling_jacobian(const Products& Py);
 
   /// The inertial forces of the body, int rho A dV, int rho r x A dV about E's origin and
   /// int rho N^T A dV, for the point acceleration A = a + al x r + w x (w x r) + 2 w x u' + u''
@@ -101,14 +111,9 @@ class FloatingFrameInertia {
  private:
   FloatingFrameInertia() = default;
   void check(const Eigen::VectorXd& d, const char* name) const;
-  using Products = std::array<Eigen::VectorXd, 9>;
-  // M_k z for k = 3 i + j (sparse, or dense for a projected body).
-  Products products(const Eigen::VectorXd& z) const;
   // Rows g_ij = dE_ij/dd = [C_(ij) + C_(ji)] + (M_ij z + M_ji z)^T (z = d; without C: the rate
   // part, z = dd), from the products P = M_k z, contracted with x as tr(g) x - g x.
   Matrix3X contract_inertia(const Products& P, bool with_C, const Eigen::Vector3d& x) const;
-  // d(H(d) y)/dd from the products P = M_k y: row i = (M_jk y - M_kj y)^T, (i, j, k) cyclic.
-  static Matrix3X coupling_jacobian(const Products& P);
   // The integrals at (d, dd') that the inertial forces need, from the products Pd = M_k d and
   // Pdd = M_k dd' (formulas of inertia_tensor(), rotation_coupling(), inertia_tensor_rate(),
   // centrifugal_stiffness() and gyroscopic()), and the forces they give.
@@ -130,7 +135,8 @@ class FloatingFrameInertia {
   Eigen::Matrix<double, 9, Eigen::Dynamic> C_;
   // The nine int rho N_i^T N_j (index k = 3 i + j): sparse on the mesh's pattern, or, in a Ritz
   // basis (projected(); every entry is then nonzero), dense and stacked, rows k r .. k r + r - 1
-  // of a (9 r x r) matrix, so that the nine products are one.
+  // of a (9 r x r) matrix, so that the nine products are one. Sparse, M_ji = M_ij^T, and
+  // products() reads only the M_ij with i <= j (one pass gives M_ij z and M_ji z).
   std::array<SparseMatrix, 9> Mij_;
   Eigen::MatrixXd Mij_stacked_;
   bool dense_ = false;
