@@ -76,12 +76,17 @@ LockLoad lock_load(const HingeLockSpec& lock, const LockHistory& h, double theta
 namespace {
 
 // A wall's event function (> 0 while its mode holds), penetration delta and rate delta_dot:
-// closed: its force; open: its gap -delta outside, and inside (just separated, the pin still
-// within the compliant layer) minus the force it would push with, so it recloses as soon as
-// the pin pushes in again.
-double wall_event(const contact::ContactLaw& law, bool closed, double v0, double delta, double delta_dot) {
+// closed: its force; open: its gap -delta, but for a pin that was within the compliant layer at
+// the last accepted state (just separated; `inside`) and still is, minus the force it would push
+// with, so it recloses as soon as the pin pushes in again. Which of the two an open wall uses is
+// fixed within a step: the gap's root is where the law's force jumps to D delta' (Kelvin-Voigt),
+// and an event function switching to the force there would jump across its root (measured on
+// the paper's 30 s scene: half the event searches bisected such a jump to the 1e-8 s floor,
+// 21 trial steps each).
+double wall_event(const contact::ContactLaw& law, bool closed, bool inside, double v0, double delta,
+                  double delta_dot) {
   if (closed) return unclamped(law, delta, delta_dot, v0).F;
-  if (delta <= 0) return -delta;
+  if (!inside || delta <= 0) return -delta;
   return -unclamped(law, delta, delta_dot, std::max(v0, std::abs(delta_dot))).F;
 }
 
@@ -90,8 +95,9 @@ double wall_event(const contact::ContactLaw& law, bool closed, double v0, double
 void lock_events(const HingeLockSpec& lock, const LockHistory& h, double theta, double rate, double* stop,
                  double* latch) {
   const double r = lock.pin_radius;
-  *stop = wall_event(lock.law, h.stop_contact, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
-  *latch = h.latched ? wall_event(lock.law, h.latch_contact, h.latch_v0, r * (lock.theta_latch() - theta), -r * rate)
+  *stop = wall_event(lock.law, h.stop_contact, h.stop_inside, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
+  *latch = h.latched ? wall_event(lock.law, h.latch_contact, h.latch_inside, h.latch_v0,
+                                  r * (lock.theta_latch() - theta), -r * rate)
                      : std::numeric_limits<double>::infinity();
 }
 
@@ -109,15 +115,17 @@ void update_lock_history(const HingeLockSpec& lock, LockHistory& h, double theta
   const double r = lock.pin_radius;
   // A wall switches mode when its event function is no longer positive; a closing wall keeps
   // its approach speed (the Hunt-Crossley family's v0).
-  auto update = [&](bool& closed, double& v0, double delta, double delta_dot) {
-    if (wall_event(lock.law, closed, v0, delta, delta_dot) > 0) return;
-    closed = !closed;
-    // The Hunt-Crossley family's damping scales as 1/v0: a wall that recloses while the pin
-    // rests on it would get an unbounded damper. Floor: kMinOnsetSpeed.
-    if (closed) v0 = std::max(delta_dot, kMinOnsetSpeed);
+  auto update = [&](bool& closed, bool& inside, double& v0, double delta, double delta_dot) {
+    if (wall_event(lock.law, closed, inside, v0, delta, delta_dot) <= 0) {
+      closed = !closed;
+      // The Hunt-Crossley family's damping scales as 1/v0: a wall that recloses while the pin
+      // rests on it would get an unbounded damper. Floor: kMinOnsetSpeed.
+      if (closed) v0 = std::max(delta_dot, kMinOnsetSpeed);
+    }
+    inside = !closed && delta > 0;
   };
-  update(h.stop_contact, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
-  if (h.latched) update(h.latch_contact, h.latch_v0, r * (lock.theta_latch() - theta), -r * rate);
+  update(h.stop_contact, h.stop_inside, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
+  if (h.latched) update(h.latch_contact, h.latch_inside, h.latch_v0, r * (lock.theta_latch() - theta), -r * rate);
 }
 
 }  // namespace deployfx::joint

@@ -35,6 +35,10 @@ struct HingeLockSpec {
 struct LockHistory {
   bool latched = false;
   bool stop_contact = false, latch_contact = false;  ///< the walls' modes
+  /// An open wall whose pin was within its compliant layer (delta > 0) at the last accepted
+  /// state: it recloses when the pin pushes in again (its event is then that force), not when a
+  /// gap closes (lock_events).
+  bool stop_inside = false, latch_inside = false;
   double stop_v0 = 0, latch_v0 = 0;  ///< approach speed at onset, m/s (at least 1 mm/s)
 };
 
@@ -45,7 +49,10 @@ struct LockLoad {
 
 LockLoad lock_load(const HingeLockSpec& lock, const LockHistory& history, double theta, double rate);
 /// The event functions of the two walls (stop, latch), positive while their modes hold: an open
-/// wall's gap (m), a closed wall's normal force (N); the latch's is +inf until latched.
+/// wall's gap (m), or for a pin within the layer the force the wall would push with, negated
+/// (N); a closed wall's normal force (N); the latch's is +inf until latched. Each is continuous
+/// in the state within a step (the history is fixed there), so the stepper's secant search
+/// converges on its root instead of bisecting a jump (the force law's D delta' at onset).
 void lock_events(const HingeLockSpec& lock, const LockHistory& history, double theta, double rate,
                  double* stop, double* latch);
 /// The fraction in (0, 1] of a Newton step worth taking that changes the hinge rate from `rate`
