@@ -124,11 +124,28 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
         AlphaState best = std::move(trial);
         int side = 0, clipped = 0;
         const double width = std::max(kLocateTolerance * h, kMinEventStep);
+        bool probing = true;
         for (int n = 0; n < kMaxLocateIterations && G_hi < -kEventTolerance && hi - lo > width; ++n) {
+          // The secant's root from the bracket's true values. Once it lies within half the width
+          // of an end, the secant's iterates hug that end and the bracket shrinks from the other
+          // side only (the guard below then bisects it down to the width: 15-21 trial steps an
+          // event on the paper's scene); a probe one width inside that end closes the bracket
+          // instead. A probe that lands on the end's own side shows the estimate wrong there (a
+          // curved or jumping G): no more probes in this search.
+          const double root = hi - G_hi * (hi - lo) / (G_hi - G_lo);
+          const int probe = !probing ? 0 : hi - root <= 0.5 * width ? 1 : root - lo <= 0.5 * width ? -1 : 0;
           double mid = hi - w_hi * (hi - lo) / (w_hi - w_lo);
           const double guard = 0.05 * (hi - lo);
-          if (!(mid > lo + guard && mid < hi - guard)) ++clipped;
-          mid = clipped >= 2 ? 0.5 * (lo + hi) : std::min(std::max(mid, lo + guard), hi - guard);
+          if (probe == 1) {
+            mid = hi - 0.99 * width;
+          } else if (probe == -1) {
+            mid = lo + 0.99 * width;
+          } else {
+            // Two secant steps in a row clipped to the guard: one bisection, then the secant again.
+            clipped = mid > lo + guard && mid < hi - guard ? 0 : clipped + 1;
+            if (clipped >= 2) clipped = 0, mid = 0.5 * (lo + hi);
+            else mid = std::min(std::max(mid, lo + guard), hi - guard);
+          }
           AlphaState m = s;
           const Eigen::VectorXd guess = vdot_lo + ((mid - lo) / (hi - lo)) * (best.vdot - vdot_lo);
           try {
@@ -141,10 +158,12 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
             lo = mid, G_lo = w_lo = G, vdot_lo = m.vdot;
             if (side == -1) w_hi *= 0.5;  // Illinois: keep the stale end from stalling
             side = -1;
+            if (probe == -1) probing = false;
           } else {
             hi = mid, G_hi = w_hi = G, best = std::move(m);
             if (side == 1) w_lo *= 0.5;
             side = 1;
+            if (probe == 1) probing = false;
           }
         }
         s = std::move(best);
