@@ -167,6 +167,26 @@ def test_contact_stiffness_range_at_the_papers_step(K):
     assert r.summary()["momentum_drift"] < 1e-12
 
 
+def test_an_open_wall_event_is_its_gap_even_where_the_law_would_pull():
+    # No missed impact within a step: a stop wall open at the last accepted state, with the pin
+    # outside it (a fresh system's history), switches when the gap r (theta - theta_lock) closes,
+    # whatever the Kelvin-Voigt law's force K delta^1.5 + D delta' would be there. A pin found
+    # 1 um inside and leaving at 0.1 m/s (force 32 N - 1e5 N < 0) crossed the wall within the
+    # step: its event is -delta = -1e-6 m (exact), where minus that force (+1e5 N) hid the tap.
+    # Approaching from 1 um outside, the event is the gap, +1e-6 m. q = [r_W, quaternion, theta],
+    # v = [v_W, w_B, theta'] (system/hinged_system.hpp).
+    system = rigid_scene().model.system
+    q, v = system.initial_positions(), np.zeros(system.num_velocities)
+    r = PAPER.pin_radius
+    for delta, rate, expected in [(1e-6, -0.1 / r, -1e-6), (-1e-6, 0.1 / r, 1e-6)]:
+        q[7], v[6] = THETA_LOCK + delta / r, rate
+        stop, latch = system.gaps(q, v, 0.0)
+        assert stop == pytest.approx(expected, rel=1e-9)
+        assert latch == np.inf  # not latched yet
+    with pytest.raises(ValueError, match="must have sizes"):
+        system.gaps(q[:-1], v, 0.0)
+
+
 def first_impact_reference(law, r=PAPER.pin_radius, mu=PAPER.friction.mu, v_reg=PAPER.friction.v_reg):
     """Maximum stop penetration (m) and the time to reach it (s) of the first impact, from the
     reduced 1-DOF equation I_eff theta'' + (1/2) I_eff' theta'^2 = tau0 - k theta - r F - r mu F

@@ -142,6 +142,15 @@ void define_system(py::module_& m) {
            },
            py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::arg("c_a"), py::arg("c_v"),
            py::arg("c_q"))
+      .def("gaps",
+           [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
+             check_sizes(s, q, v);
+             return s.gaps(q, v, t);
+           },
+           py::arg("q"), py::arg("v"), py::arg("t"),
+           "The lock's event functions (stop, latch) at (q, v) under the lock's history of the last "
+           "run: positive while each wall's mode holds (m for a gap, N for a force; the latch's is "
+           "inf until latched); empty without a lock.")
       .def_property_readonly("num_conserved", &HingedSystem::num_conserved)
       .def("momentum",
            [](const HingedSystem& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
