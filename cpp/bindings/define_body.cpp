@@ -28,10 +28,12 @@ void define_body(py::module_& m) {
       .def("products", &FloatingFrameInertia::products, py::arg("z"),
            "The nine M_ij z, index 3 i + j, that the d-dependent integrals are built from.")
       .def("first_moment", &FloatingFrameInertia::first_moment, py::arg("d"))
-      .def("inertia_tensor", py::overload_cast<const Eigen::VectorXd&>(&FloatingFrameInertia::inertia_tensor, py::const_),
+      .def("inertia_tensor",
+           py::overload_cast<const Eigen::VectorXd&>(&FloatingFrameInertia::inertia_tensor, py::const_),
            py::arg("d"))
       .def("rotation_coupling",
-           py::overload_cast<const Eigen::VectorXd&>(&FloatingFrameInertia::rotation_coupling, py::const_), py::arg("d"))
+           py::overload_cast<const Eigen::VectorXd&>(&FloatingFrameInertia::rotation_coupling, py::const_),
+           py::arg("d"))
       .def("kinetic_energy", &FloatingFrameInertia::kinetic_energy, py::arg("V"), py::arg("w"),
            py::arg("d"), py::arg("dd"))
       .def("inertia_tensor_rate", &FloatingFrameInertia::inertia_tensor_rate, py::arg("d"), py::arg("dd"))

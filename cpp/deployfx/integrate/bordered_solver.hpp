@@ -35,8 +35,8 @@ class BorderedSolver {
   /// part is not refined against S: x then solves S with E's skew part dropped, off by the
   /// spectral radius of Es^-1 Ek (<= skew_tolerance) relative. That is the solve a modified-Newton
   /// step with an old matrix needs: its matrix is already off by more, and its next iteration
-  /// corrects both errors together (measured on the paper's 15 x 10 scene, 3 s: the same Newton
-  /// iterations to 0.4 %, and no refinement's two extra solves per iteration).
+  /// corrects both errors together, without the refinement's two extra solves (measured on the
+  /// paper's 15 x 10 scene: docs/engine-design.md, "The elastic block's factorization").
   Eigen::VectorXd solve(const Eigen::VectorXd& r, bool exact = true) const;
   /// Whether the last S was dense throughout (no elastic block, or one half full or more): its
   /// factorization then costs about a residual (the integrator's reuse policy reads this).

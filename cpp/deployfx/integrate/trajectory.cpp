@@ -128,7 +128,7 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
         for (int n = 0; n < kMaxLocateIterations && G_hi < -kEventTolerance && hi - lo > width; ++n) {
           // The secant's root from the bracket's true values. Once it lies within half the width
           // of an end, the secant's iterates hug that end and the bracket shrinks from the other
-          // side only (the guard below then bisects it down to the width: 15-21 trial steps an
+          // side only (the guard below then bisects it down to the width: 15-22 trial steps an
           // event on the paper's scene); a probe one width inside that end closes the bracket
           // instead. A probe that lands on the end's own side shows the estimate wrong there (a
           // curved or jumping G): no more probes in this search.
