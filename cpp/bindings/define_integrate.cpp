@@ -2,6 +2,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "deployfx/integrate/bordered_solver.hpp"
 #include "deployfx/integrate/generalized_alpha.hpp"
 #include "deployfx/integrate/linear_system.hpp"
 #include "deployfx/integrate/trajectory.hpp"
@@ -19,6 +20,24 @@ void define_integrate(py::module_& m) {
       .def_readonly("alpha_f", &AlphaParameters::alpha_f)
       .def_readonly("beta", &AlphaParameters::beta)
       .def_readonly("gamma", &AlphaParameters::gamma);
+
+  m.def("bordered_solve",
+        [](const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C,
+           const Eigen::SparseMatrix<double>& E, const Eigen::VectorXd& r, bool exact) {
+          const Eigen::Index nb = A.rows(), ne = E.rows();
+          if (A.cols() != nb || B.rows() != nb || B.cols() != ne || C.rows() != ne || C.cols() != nb ||
+              E.cols() != ne || r.size() != nb + ne)
+            throw std::invalid_argument("bordered_solve: S = [A B; C E] must be square with A (nb x nb), "
+                                        "E (ne x ne), and r of size nb + ne");
+          BlockMatrix S{A, B, C, E};
+          S.E.makeCompressed();
+          BorderedSolver solver;
+          if (!solver.factorize(S)) throw std::invalid_argument("bordered_solve: S is singular");
+          return py::make_tuple(solver.solve(r, exact), solver.dense());
+        },
+        py::arg("A"), py::arg("B"), py::arg("C"), py::arg("E"), py::arg("r"), py::arg("exact") = true,
+        "Newton's bordered solve (integrate/bordered_solver), for the tests: x = S^-1 r and whether "
+        "S was taken as dense.");
 
   m.def("simulate_linear",
         [](const Eigen::MatrixXd& M, const Eigen::MatrixXd& C, const Eigen::MatrixXd& K,
