@@ -48,8 +48,33 @@ bool BorderedSolver::factorize_symmetric(const SparseMatrix& E) {
   for (int k = 0; k < 2; ++k) x = ldlt_E_.solve(E_skew_ * x);
   const double rate = std::sqrt(x.norm() / y.norm());
   if (!(rate <= skew_tolerance_)) return false;
-  Z_ = ldlt_E_.solve(C_);
+  Z_ = solve_symmetric_block(C_);
   return Z_.allFinite();
+}
+
+Eigen::MatrixXd BorderedSolver::solve_symmetric_block(const Eigen::MatrixXd& B) const {
+  // Es = P^T L D L^T P. Eigen's solve with a matrix right-hand side runs the triangular solves
+  // column by column, streaming L once per column; here every nonzero of L updates a whole row of
+  // the right-hand sides (padded to kWidth contiguous values: one fixed-size vector operation), so
+  // L is streamed twice in all. The border of a hinged system has at most 7 columns.
+  constexpr int kWidth = 8;
+  const SparseMatrix& L = ldlt_E_.matrixL().nestedExpression();
+  if (B.cols() > kWidth || !L.isCompressed()) return ldlt_E_.solve(B);
+  using Block = Eigen::Matrix<double, Eigen::Dynamic, kWidth, Eigen::RowMajor>;
+  const Eigen::Index n = L.cols();
+  Block X = Block::Zero(n, kWidth);
+  const bool permuted = ldlt_E_.permutationP().size() > 0;
+  X.leftCols(B.cols()) = permuted ? Eigen::MatrixXd(ldlt_E_.permutationP() * B) : B;
+  const int* outer = L.outerIndexPtr();
+  const int* row = L.innerIndexPtr();
+  const double* value = L.valuePtr();
+  for (Eigen::Index j = 0; j < n; ++j)  // L y = P b (unit lower, by columns)
+    for (int p = outer[j]; p < outer[j + 1]; ++p) X.row(row[p]) -= value[p] * X.row(j);
+  X.array().colwise() /= ldlt_E_.vectorD().array();
+  for (Eigen::Index j = n - 1; j >= 0; --j)  // L^T x = D^-1 y: row j of L^T is column j of L
+    for (int p = outer[j]; p < outer[j + 1]; ++p) X.row(j) -= value[p] * X.row(row[p]);
+  const Eigen::MatrixXd x = X.leftCols(B.cols());
+  return permuted ? Eigen::MatrixXd(ldlt_E_.permutationPinv() * x) : x;
 }
 
 bool BorderedSolver::factorize_exact(const SparseMatrix& E) {

@@ -50,6 +50,7 @@ class BorderedSolver {
   bool factorize_symmetric(const SparseMatrix& E);  // false: E's skew part is not small, or LDL^T failed
   bool factorize_exact(const SparseMatrix& E);
   bool factorize_dense(const SparseMatrix& E);
+  Eigen::MatrixXd solve_symmetric_block(const Eigen::MatrixXd& B) const;  // Es^-1 B, all columns at once
   Eigen::VectorXd solve_factorized(const Eigen::VectorXd& r) const;  // with Es for E if kSymmetric
   Eigen::VectorXd solve_elastic(const Eigen::VectorXd& r) const;     // E^-1 r (Es^-1 r if kSymmetric)
 
