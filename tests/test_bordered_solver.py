@@ -15,8 +15,10 @@ def bordered(nb, nodes=40, skew=0.0, seed=0):
     pattern (the floating frame's gyroscopic terms)."""
     rng = np.random.default_rng(seed)
     n = 6 * nodes
-    pattern = sp.kron(sp.diags([1.0, 1.0, 1.0], [-1, 0, 1], shape=(nodes, nodes)), np.ones((6, 6))).tocoo()
-    R = sp.coo_matrix((rng.normal(size=pattern.nnz), (pattern.row, pattern.col)), shape=(n, n)).tocsc()
+    chain = sp.diags([1.0, 1.0, 1.0], [-1, 0, 1], shape=(nodes, nodes))
+    pattern = sp.kron(chain, np.ones((6, 6))).tocoo()
+    values = rng.normal(size=pattern.nnz)
+    R = sp.coo_matrix((values, (pattern.row, pattern.col)), shape=(n, n)).tocsc()
     Es = 0.1 * (R + R.T) + 4.0 * sp.identity(n)  # Gershgorin: definite
     E = (Es + skew * (R - R.T)).tocsc()
     A = rng.normal(size=(nb, nb)) + 10.0 * np.eye(nb)
@@ -57,7 +59,8 @@ def test_dense_elastic_block_takes_the_dense_lu():
     rng = np.random.default_rng(1)
     n, nb = 36, 7
     E = rng.normal(size=(n, n)) + 12.0 * np.eye(n)
-    A, B, C = rng.normal(size=(nb, nb)) + 10.0 * np.eye(nb), rng.normal(size=(nb, n)), rng.normal(size=(n, nb))
+    A = rng.normal(size=(nb, nb)) + 10.0 * np.eye(nb)
+    B, C = rng.normal(size=(nb, n)), rng.normal(size=(n, nb))
     r = rng.normal(size=nb + n)
     x_ref = np.linalg.solve(np.block([[A, B], [C, E]]), r)
     x, dense = _core.bordered_solve(A, B, C, sp.csc_matrix(E), r, False)
