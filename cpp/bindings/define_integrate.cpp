@@ -33,11 +33,11 @@ void define_integrate(py::module_& m) {
           S.E.makeCompressed();
           BorderedSolver solver;
           if (!solver.factorize(S)) throw std::invalid_argument("bordered_solve: S is singular");
-          return py::make_tuple(solver.solve(r, exact), solver.dense());
+          return py::make_tuple(solver.solve(r, exact), std::string(solver.method()));
         },
         py::arg("A"), py::arg("B"), py::arg("C"), py::arg("E"), py::arg("r"), py::arg("exact") = true,
-        "Newton's bordered solve (integrate/bordered_solver), for the tests: x = S^-1 r and whether "
-        "S was taken as dense.");
+        "Newton's bordered solve (integrate/bordered_solver), for the tests: x = S^-1 r and how E "
+        "was factorized (BorderedSolver::method).");
 
   m.def("simulate_linear",
         [](const Eigen::MatrixXd& M, const Eigen::MatrixXd& C, const Eigen::MatrixXd& K,

@@ -24,7 +24,33 @@ void BorderedSolver::analyze(const SparseMatrix& E) {
     }
   E_sym_ = E;
   E_skew_ = E;
-  ldlt_E_.analyzePattern(E_sym_);
+  block_E_.analyze(E_sym_);
+  ldlt_analyzed_ = false;  // analysed when first needed
+}
+
+const char* BorderedSolver::method() const {
+  if (ne_ == 0) return "none";
+  switch (method_) {
+    case Method::kDense: return "dense-lu";
+    case Method::kSymmetric: return block_ ? "block-ldlt" : "simplicial-ldlt";
+    case Method::kExact: break;
+  }
+  return "sparse-lu";
+}
+
+bool BorderedSolver::factorize_symmetric_part() {
+  block_ = block_E_.analyzed() && block_E_.factorize(E_sym_);
+  if (block_) return true;
+  if (!ldlt_analyzed_) {
+    ldlt_E_.analyzePattern(E_sym_);
+    ldlt_analyzed_ = true;
+  }
+  ldlt_E_.factorize(E_sym_);
+  return ldlt_E_.info() == Eigen::Success && ldlt_E_.vectorD().cwiseAbs().minCoeff() > 0;
+}
+
+Eigen::VectorXd BorderedSolver::solve_symmetric(const Eigen::VectorXd& r) const {
+  return block_ ? block_E_.solve(r) : Eigen::VectorXd(ldlt_E_.solve(r));
 }
 
 bool BorderedSolver::factorize_symmetric(const SparseMatrix& E) {
@@ -36,16 +62,15 @@ bool BorderedSolver::factorize_symmetric(const SparseMatrix& E) {
     sym[i] = 0.5 * (v[i] + v[transpose_[i]]);
     skew[i] = 0.5 * (v[i] - v[transpose_[i]]);
   }
-  ldlt_E_.factorize(E_sym_);
-  if (ldlt_E_.info() != Eigen::Success || !(ldlt_E_.vectorD().cwiseAbs().minCoeff() > 0)) return false;
+  if (!factorize_symmetric_part()) return false;
   // The dropped part makes the Newton iteration contract at the spectral radius of Es^-1 Ek
   // (0 for a symmetric E): estimated by two power iterations from Es^-1 1, a smooth field that
   // holds the low, mass-dominated modes the gyroscopic coupling acts on. The estimate runs 2-10x
   // below the radius (paper's scene 1e-4 against 3e-4, the spin-up beam at 20 rad/s 3e-3 against
   // 3e-2), hence the tolerance's margin; the refinement in solve() converges for any radius < 1.
-  const Eigen::VectorXd y = ldlt_E_.solve(Eigen::VectorXd::Ones(ne_));
+  const Eigen::VectorXd y = solve_symmetric(Eigen::VectorXd::Ones(ne_));
   Eigen::VectorXd x = y;
-  for (int k = 0; k < 2; ++k) x = ldlt_E_.solve(E_skew_ * x);
+  for (int k = 0; k < 2; ++k) x = solve_symmetric(E_skew_ * x);
   const double rate = std::sqrt(x.norm() / y.norm());
   if (!(rate <= skew_tolerance_)) return false;
   Z_ = solve_symmetric_block(C_);
@@ -53,6 +78,7 @@ bool BorderedSolver::factorize_symmetric(const SparseMatrix& E) {
 }
 
 Eigen::MatrixXd BorderedSolver::solve_symmetric_block(const Eigen::MatrixXd& B) const {
+  if (block_) return block_E_.solve(B);  // by rows of up to eight columns (BlockLDLT::solve)
   // Es = P^T L D L^T P. Eigen's solve with a matrix right-hand side runs the triangular solves
   // column by column, streaming L once per column; here every nonzero of L updates a whole row of
   // the right-hand sides (padded to kWidth contiguous values: one fixed-size vector operation), so
@@ -99,7 +125,7 @@ bool BorderedSolver::factorize_dense(const SparseMatrix& E) {
 Eigen::VectorXd BorderedSolver::solve_elastic(const Eigen::VectorXd& r) const {
   switch (method_) {
     case Method::kDense: return lu_dense_E_.solve(r);
-    case Method::kSymmetric: return ldlt_E_.solve(r);
+    case Method::kSymmetric: return solve_symmetric(r);
     case Method::kExact: break;
   }
   return lu_E_.solve(r);

@@ -4,16 +4,18 @@
 //
 // The elastic block E = c_a M + c_v (2 G_y(w) + damping) + c_q (K_T + ...) is symmetric but for the
 // floating frame's gyroscopic terms G_y (hinged_system_jacobians.cpp), which are skew. Where they
-// are small, E is factorized by a sparse LDL^T of its symmetric part Es (Eigen's SimplicialLDLT,
-// AMD ordering: 3x cheaper than the sparse LU on the paper's 15 x 10 plate, and half the
-// triangular solve), and the solve refines against S (each step shrinks the error by the spectral
-// radius of Es^-1 Ek, below 3e-4 on the paper's deployment: G_y couples a mode with the in-plane,
+// are small, E is factorized by a sparse LDL^T of its symmetric part Es: over the mesh nodes'
+// 6 x 6 blocks (math/block_ldlt.hpp: 1.5x faster runs of the paper's 15 x 10 scene than Eigen's
+// scalar SimplicialLDLT, which is kept, AMD-ordered, for dofs that do not group into nodes or a
+// singular pivot block; either is 3x cheaper than the sparse LU there, with half its triangular
+// solve), and the solve refines against S (each step shrinks the error by the spectral radius of
+// Es^-1 Ek, below 3e-4 on the paper's deployment: G_y couples a mode with the in-plane,
 // membrane-stiff ones), so the Newton iteration sees S^-1 to 1e-8 where it asks for the exact
-// solve (a fresh matrix; an old one's step is inexact anyway). That radius is estimated at
-// each factorization; above `skew_tolerance` (a fast spin) E is factorized exactly by the sparse
-// LU (COLAMD). Both keep their fill-reducing ordering across factorizations of one pattern.
-// A dense E (half full or more: a reduced model's modal block) goes through a dense LU, exact and
-// cheaper than either sparse path at that size.
+// solve (a fresh matrix; an old one's step is inexact anyway). That radius is estimated at each
+// factorization; above `skew_tolerance` (a fast spin) E is factorized exactly by the sparse LU
+// (COLAMD). All keep their fill-reducing ordering across factorizations of one pattern. A dense E
+// (half full or more: a reduced model's modal block) goes through a dense LU, exact and cheaper
+// than any sparse path at that size.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <Eigen/SparseCholesky>
@@ -21,6 +23,7 @@
 #include <vector>
 
 #include "deployfx/integrate/block_matrix.hpp"
+#include "deployfx/math/block_ldlt.hpp"
 
 namespace deployfx::integrate {
 
@@ -43,11 +46,16 @@ class BorderedSolver {
   bool dense() const { return method_ == Method::kDense; }
   /// Numeric factorizations done so far (for cost accounting).
   long factorizations() const { return factorizations_; }
+  /// How the last E was factorized: "none" (no elastic block), "dense-lu", "block-ldlt",
+  /// "simplicial-ldlt" (both of the symmetric part) or "sparse-lu".
+  const char* method() const;
 
  private:
   using SparseMatrix = Eigen::SparseMatrix<double>;
   void analyze(const SparseMatrix& E);
-  bool factorize_symmetric(const SparseMatrix& E);  // false: E's skew part is not small, or LDL^T failed
+  bool factorize_symmetric(const SparseMatrix& E);  // false: E's skew part is not small, or Es singular
+  bool factorize_symmetric_part();                  // Es = E_sym_: by blocks, else the scalar LDL^T
+  Eigen::VectorXd solve_symmetric(const Eigen::VectorXd& r) const;  // Es^-1 r
   bool factorize_exact(const SparseMatrix& E);
   bool factorize_dense(const SparseMatrix& E);
   Eigen::MatrixXd solve_symmetric_block(const Eigen::MatrixXd& B) const;  // Es^-1 B, all columns at once
@@ -61,6 +69,9 @@ class BorderedSolver {
   Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_E_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_dense_E_;
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_E_;
+  BlockLDLT block_E_;
+  bool ldlt_analyzed_ = false;
+  bool block_ = false;  // kSymmetric: Es in block_E_ (else in ldlt_E_)
   SparseMatrix E_sym_, E_skew_;           // E's pattern, (E + E^T)/2 and (E - E^T)/2
   std::vector<Eigen::Index> transpose_;   // E's k-th nonzero (i, j) -> the slot of (j, i); empty: not
                                           // structurally symmetric

@@ -1,0 +1,197 @@
+#include "deployfx/math/block_ldlt.hpp"
+
+#include <Eigen/Cholesky>  // LDLT
+#include <Eigen/OrderingMethods>
+#include <algorithm>
+#include <cstring>
+
+namespace deployfx {
+
+namespace {
+constexpr int kSize = BlockLDLT::kBlock * BlockLDLT::kBlock;  // values in a block
+}  // namespace
+
+bool BlockLDLT::analyze(const SparseMatrix& A) {
+  blocks_ = 0;
+  n_ = 0;
+  if (A.rows() != A.cols() || !A.isCompressed()) return false;
+  const int n = static_cast<int>(A.rows());
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  auto same_pattern = [&](int c, int d) {
+    const int len = outer[c + 1] - outer[c];
+    return len == outer[d + 1] - outer[d] &&
+           std::memcmp(inner + outer[c], inner + outer[d], sizeof(int) * static_cast<std::size_t>(len)) == 0;
+  };
+  // Groups: runs of at most kBlock consecutive dofs with one column pattern.
+  std::vector<int> group(n), local(n), group_size;
+  for (int d = 0; d < n; ++d) {
+    if (d > 0 && local[d - 1] + 1 < kBlock && same_pattern(d - 1, d)) {
+      group[d] = group[d - 1];
+      local[d] = local[d - 1] + 1;
+      ++group_size.back();
+    } else {
+      group[d] = static_cast<int>(group_size.size());
+      local[d] = 0;
+      group_size.push_back(1);
+    }
+  }
+  const int ng = static_cast<int>(group_size.size());
+  if (4 * ng > n) return false;
+  // The groups' graph (a group's first column holds its pattern) and its AMD ordering:
+  // order[new] = old (the ordering's convention, as in CSparse's cs_amd), rank[old] = new.
+  std::vector<Eigen::Triplet<double>> edges;
+  for (int d = 0; d < n; ++d)
+    if (local[d] == 0)
+      for (int p = outer[d]; p < outer[d + 1]; ++p) edges.emplace_back(group[inner[p]], group[d], 1.0);
+  SparseMatrix graph(ng, ng);
+  graph.setFromTriplets(edges.begin(), edges.end());
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
+  Eigen::AMDOrdering<int>()(graph, order);
+  std::vector<int> rank(ng);
+  for (int k = 0; k < ng; ++k) rank[order.indices()[k]] = k;
+  // The factor's pattern, column by column in the new order: column j holds A's lower pattern
+  // and that of its children in the elimination tree, less j itself (Davis 2006, Sec. 4.1).
+  std::vector<std::vector<int>> column(ng), children(ng);
+  std::vector<int> mark(ng, -1);
+  for (int g = 0; g < ng; ++g)
+    for (SparseMatrix::InnerIterator it(graph, g); it; ++it)
+      if (rank[it.row()] > rank[g]) column[rank[g]].push_back(rank[it.row()]);
+  for (int j = 0; j < ng; ++j) {
+    std::vector<int>& rows = column[j];
+    for (int i : rows) mark[i] = j;
+    for (int c : children[j])
+      for (int i : column[c])
+        if (i != j && mark[i] != j) {
+          mark[i] = j;
+          rows.push_back(i);
+        }
+    std::sort(rows.begin(), rows.end());
+    if (!rows.empty()) children[rows.front()].push_back(j);  // the parent: the first row below j
+  }
+  off_begin_.assign(1, 0);
+  off_rows_.clear();
+  for (int j = 0; j < ng; ++j) {
+    off_rows_.insert(off_rows_.end(), column[j].begin(), column[j].end());
+    off_begin_.push_back(static_cast<int>(off_rows_.size()));
+  }
+  // Row j's blocks G_jk, k < j, in increasing k (compressed rows of the column pattern).
+  row_begin_.assign(ng + 1, 0);
+  for (int i : off_rows_) ++row_begin_[i + 1];
+  for (int j = 0; j < ng; ++j) row_begin_[j + 1] += row_begin_[j];
+  row_blocks_.assign(off_rows_.size(), 0);
+  off_column_.assign(off_rows_.size(), 0);
+  std::vector<int> next(row_begin_.begin(), row_begin_.end() - 1);
+  for (int k = 0; k < ng; ++k)
+    for (int t = off_begin_[k]; t < off_begin_[k + 1]; ++t) {
+      row_blocks_[next[off_rows_[t]]++] = t;
+      off_column_[t] = k;
+    }
+  // Where A's dofs and values go.
+  dof_slot_.resize(n);
+  for (int d = 0; d < n; ++d) dof_slot_[d] = kBlock * rank[group[d]] + local[d];
+  padding_.clear();
+  for (int g = 0; g < ng; ++g)
+    for (int l = group_size[g]; l < kBlock; ++l) padding_.push_back(kSize * 2 * rank[g] + l * (kBlock + 1));
+  value_target_.assign(static_cast<std::size_t>(A.nonZeros()), -1);
+  for (int c = 0; c < n; ++c)
+    for (int p = outer[c]; p < outer[c + 1]; ++p) {
+      const int r = inner[p];
+      const int I = rank[group[r]], J = rank[group[c]];
+      const long within = local[r] + kBlock * local[c];  // column-major within the block
+      if (I == J) {
+        value_target_[p] = static_cast<long>(kSize) * 2 * J + within;
+      } else if (I > J) {
+        const auto first = off_rows_.begin() + off_begin_[J], last = off_rows_.begin() + off_begin_[J + 1];
+        const int t = static_cast<int>(std::lower_bound(first, last, I) - off_rows_.begin());
+        value_target_[p] = static_cast<long>(kSize) * (2 * ng + t) + within;
+      }
+    }
+  values_.assign(static_cast<std::size_t>(kSize) * (2 * ng + off_rows_.size()), 0.0);
+  position_.assign(ng, -1);
+  n_ = n;
+  blocks_ = ng;
+  return true;
+}
+
+bool BlockLDLT::factorize(const SparseMatrix& A) {
+  if (blocks_ == 0 || A.rows() != n_ || A.nonZeros() != static_cast<Eigen::Index>(value_target_.size()))
+    return false;
+  std::fill(values_.begin(), values_.end(), 0.0);
+  for (int k : padding_) values_[k] = 1.0;
+  const double* a = A.valuePtr();
+  for (std::size_t p = 0; p < value_target_.size(); ++p)
+    if (value_target_[p] >= 0) values_[value_target_[p]] = a[p];
+  double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
+  using Map = Eigen::Map<Block>;
+  using ConstMap = Eigen::Map<const Block>;
+  for (int j = 0; j < blocks_; ++j) {
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) position_[off_rows_[t]] = t;
+    Map D(values_.data() + kSize * 2 * j);
+    // Left-looking: column j less L_ik D_k L_jk^T for every k < j with L_jk != 0 (the rows i >= j
+    // of column k follow row j in its ascending pattern).
+    for (int u = row_begin_[j]; u < row_begin_[j + 1]; ++u) {
+      const int s = row_blocks_[u], k = off_column_[s];
+      const ConstMap L_jk(off + kSize * s);
+      const Block Y = L_jk * ConstMap(values_.data() + kSize * 2 * k);  // L_jk D_k
+      D.noalias() -= Y * L_jk.transpose();
+      for (int t = s + 1; t < off_begin_[k + 1]; ++t)
+        Map(off + kSize * position_[off_rows_[t]]).noalias() -= ConstMap(off + kSize * t) * Y.transpose();
+    }
+    D = (0.5 * (D + D.transpose())).eval();
+    const Eigen::LDLT<Block> ldlt(D);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().cwiseAbs().minCoeff() > 0)) return false;
+    Map D_inv(values_.data() + kSize * (2 * j + 1));
+    D_inv = ldlt.solve(Block::Identity());
+    if (!D_inv.allFinite()) return false;
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) {
+      Map W(off + kSize * t);  // L_ij = W_ij D_j^-1
+      W = (W * D_inv).eval();
+    }
+  }
+  return true;
+}
+
+template <class Rhs>
+void BlockLDLT::solve_in_place(Rhs& X) const {
+  const double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
+  using ConstMap = Eigen::Map<const Block>;
+  for (int j = 0; j < blocks_; ++j) {  // L y = b, by columns (unit diagonal)
+    const auto y_j = X.template middleRows<kBlock>(kBlock * j);
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t)
+      X.template middleRows<kBlock>(kBlock * off_rows_[t]).noalias() -= ConstMap(off + kSize * t) * y_j;
+  }
+  for (int j = blocks_ - 1; j >= 0; --j) {  // L^T x = D^-1 y: row j of L^T is column j of L
+    auto x_j = X.template middleRows<kBlock>(kBlock * j);
+    x_j = (ConstMap(values_.data() + kSize * (2 * j + 1)) * x_j).eval();
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t)
+      x_j.noalias() -= ConstMap(off + kSize * t).transpose() * X.template middleRows<kBlock>(kBlock * off_rows_[t]);
+  }
+}
+
+Eigen::VectorXd BlockLDLT::solve(const Eigen::VectorXd& b) const {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(kBlock) * blocks_);
+  for (int d = 0; d < n_; ++d) x(dof_slot_[d]) = b(d);
+  solve_in_place(x);
+  Eigen::VectorXd out(n_);
+  for (int d = 0; d < n_; ++d) out(d) = x(dof_slot_[d]);
+  return out;
+}
+
+Eigen::MatrixXd BlockLDLT::solve(const Eigen::MatrixXd& B) const {
+  // Up to kWidth columns at a time, as rows of kWidth contiguous values: each block update is one
+  // fixed-size (6 x 6) (6 x kWidth) product.
+  constexpr int kWidth = 8;
+  Eigen::MatrixXd out(n_, B.cols());
+  Eigen::Matrix<double, Eigen::Dynamic, kWidth, Eigen::RowMajor> X(static_cast<Eigen::Index>(kBlock) * blocks_, kWidth);
+  for (Eigen::Index c0 = 0; c0 < B.cols(); c0 += kWidth) {
+    const Eigen::Index w = std::min<Eigen::Index>(kWidth, B.cols() - c0);
+    X.setZero();
+    for (int d = 0; d < n_; ++d) X.row(dof_slot_[d]).head(w) = B.row(d).segment(c0, w);
+    solve_in_place(X);
+    for (int d = 0; d < n_; ++d) out.row(d).segment(c0, w) = X.row(dof_slot_[d]).head(w);
+  }
+  return out;
+}
+
+}  // namespace deployfx
