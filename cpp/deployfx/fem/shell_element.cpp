@@ -143,12 +143,17 @@ ShellElement::ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::
       p.Nr(0, o + TY) = s.N(i);
       p.Nr(1, o + TX) = -s.N(i);
       p.Nr(2, o + TZ) = s.N(i);
+      p.N(i) = s.N(i);
+      p.dNx(i) = dN(0);
+      p.dNy(i) = dN(1);
     }
     // Assumed covariant shear (Bathe & Dvorkin 1985, Eq. 11), then Cartesian: e = J gamma.
     Eigen::Matrix<double, 2, kElementDofs> e;
     e.row(0) = 0.5 * (1 - gy[q]) * eB + 0.5 * (1 + gy[q]) * eD;
     e.row(1) = 0.5 * (1 - gx[q]) * eA + 0.5 * (1 + gx[q]) * eC;
     p.Bs = Jinv * e;
+    for (int i = 0; i < 4; ++i)
+      for (int k = 0; k < 3; ++k) p.Bs_wr.col(4 * k + i) = p.Bs.col(6 * i + W + k);  // W, TX, TY
   }
 }
 
@@ -270,40 +275,90 @@ ShellElement::GreenOperators ShellElement::green_operators(int gauss_point) cons
 }
 
 void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W) const {
+  // Each strain operator touches few of the 24 dofs, through the nodes' shape functions: Bm and
+  // G the (u, v, w), Bb the (theta_x, theta_y), Bs the (w, theta_x, theta_y), Bd the (u, v,
+  // theta_z). The force and tangent are formed from those, with the tangent in the dof-type-major
+  // order 4 type + node (u1..u4, v1..v4, w1..w4, theta_x1..4, theta_y1..4, theta_z1..4), where
+  // each operator's dofs are contiguous: a sixth of the multiply-adds of the 24-column products.
+  // strain_energy() keeps the 24-column operators (the tests' independent reference).
   const ElemVec d = to_element(d_W);
-  ElemVec f = ElemVec::Zero();
-  ElemMat K = ElemMat::Zero();
+  const Eigen::Map<const Eigen::Matrix<double, kNodeDofs, 4>> X(d.data());  // column a: node a's dofs
+  Eigen::Matrix<double, kNodeDofs, 4> F = Eigen::Matrix<double, kNodeDofs, 4>::Zero();
+  ElemMat Kt;  // type-major
+  if (K_W) Kt.setZero();
+  Eigen::Matrix<double, 12, 1> wr;  // (w, theta_x, theta_y) of the nodes
+  wr << X.row(W).transpose(), X.row(TX).transpose(), X.row(TY).transpose();
   for (const GaussPoint& p : gp_) {
-    const Eigen::Matrix<double, 6, 1> psi = p.G * d;
-    const Eigen::Vector3d px = psi.head<3>(), py = psi.tail<3>();
-    // Eq. 14 and 20: eps = Bm d + 1/2 H(psi) psi, d eps = (Bm + H G) dd.
-    Eigen::Matrix<double, 3, 6> H = Eigen::Matrix<double, 3, 6>::Zero();
-    H.block<1, 3>(0, 0) = px.transpose();
-    H.block<1, 3>(1, 3) = py.transpose();
-    H.block<1, 3>(2, 0) = py.transpose();
-    H.block<1, 3>(2, 3) = px.transpose();
-    const Eigen::Matrix<double, 3, kElementDofs> Bm_bar = p.Bm + H * p.G;
-    const Eigen::Vector3d eps = p.Bm * d + 0.5 * H * psi;
-    const Eigen::Vector3d kap = p.Bb * d;
+    const Eigen::Vector3d px = X.topRows<3>() * p.dNx;  // Psi (Eq. 20): (u,x v,x w,x)
+    const Eigen::Vector3d py = X.topRows<3>() * p.dNy;  // (u,y v,y w,y)
+    // Eq. 14: eps = (u,x + |px|^2 / 2, v,y + |py|^2 / 2, u,y + v,x + px.py); its variation is
+    // (gx.dpx, gy.dpy, gx.dpy + gy.dpx) with gx = e_x + px, gy = e_y + py (Eq. 20: Bm + H G).
+    const Eigen::Vector3d gx = px + Eigen::Vector3d::UnitX(), gy = py + Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d eps(px(0) + 0.5 * px.squaredNorm(), py(1) + 0.5 * py.squaredNorm(),
+                              py(0) + px(1) + px.dot(py));
+    // kappa = (beta_x,x, beta_y,y, beta_x,y + beta_y,x), beta_x = theta_y, beta_y = -theta_x.
+    auto field = [&](int type, const Eigen::Vector4d& shape) { return shape.dot(X.row(type).transpose()); };
+    const double ty_x = field(TY, p.dNx), ty_y = field(TY, p.dNy);
+    const double tx_x = field(TX, p.dNx), tx_y = field(TX, p.dNy);
+    const Eigen::Vector3d kap(ty_x, -tx_y, ty_y - tx_x);
     const Eigen::Vector3d N = A_ * eps + B_ * kap;
     const Eigen::Vector3d M = B_ * eps + D_ * kap;
-    const Eigen::Vector2d Q = As_ * (p.Bs * d);
-    const double drill = drill_modulus_ * p.Bd.dot(d.transpose());
+    const Eigen::Vector2d Q = As_ * (p.Bs_wr * wr);
+    const double drill_strain = field(TZ, p.N) - 0.5 * (field(V, p.dNx) - field(U, p.dNy));
     const double w = p.weight;
-    f.noalias() += w * (Bm_bar.transpose() * N + p.Bb.transpose() * M + p.Bs.transpose() * Q +
-                        p.Bd.transpose() * drill);
+    const double drill = w * drill_modulus_ * drill_strain;
+    // f = int (Bm_bar^T N + Bb^T M + Bs^T Q + Bd^T drill) dA, by node.
+    const Eigen::Vector3d nx = w * (N(0) * gx + N(2) * gy), ny = w * (N(1) * gy + N(2) * gx);
+    F.topRows<3>().noalias() += nx * p.dNx.transpose() + ny * p.dNy.transpose();
+    const Eigen::Matrix<double, 12, 1> fs = p.Bs_wr.transpose() * (w * Q);
+    F.row(W) += fs.segment<4>(0).transpose();
+    F.row(TX) += fs.segment<4>(4).transpose() - w * (M(1) * p.dNy + M(2) * p.dNx).transpose();
+    F.row(TY) += fs.segment<4>(8).transpose() + w * (M(0) * p.dNx + M(2) * p.dNy).transpose();
+    F.row(TZ) += drill * p.N.transpose();
+    F.row(U) += 0.5 * drill * p.dNy.transpose();
+    F.row(V) -= 0.5 * drill * p.dNx.transpose();
     if (!K_W) continue;
-    // K_L + K_L* (Eq. 19, 23): material tangent on the full strain operator.
-    const Eigen::Matrix<double, 3, kElementDofs> ABm = A_ * Bm_bar + B_ * p.Bb;
-    const Eigen::Matrix<double, 3, kElementDofs> BBm = B_ * Bm_bar + D_ * p.Bb;
-    K.noalias() += w * (Bm_bar.transpose() * ABm + p.Bb.transpose() * BBm +
-                        p.Bs.transpose() * As_ * p.Bs +
-                        drill_modulus_ * p.Bd.transpose() * p.Bd);
-    // K_s (Eq. 22) from the current resultants.
-    if (N.squaredNorm() > 0) K.noalias() += w * p.G.transpose() * resultant_matrix(N) * p.G;
+    // K_L + K_L* (Eq. 19, 23) on the compact operators: Bm_bar on (u, v, w), Bb on (theta_x,
+    // theta_y).
+    Eigen::Matrix<double, 3, 12> Bm;
+    for (int t = 0; t < 3; ++t) {
+      Bm.block<1, 4>(0, 4 * t) = gx(t) * p.dNx.transpose();
+      Bm.block<1, 4>(1, 4 * t) = gy(t) * p.dNy.transpose();
+      Bm.block<1, 4>(2, 4 * t) = gx(t) * p.dNy.transpose() + gy(t) * p.dNx.transpose();
+    }
+    Eigen::Matrix<double, 3, 8> Bb;
+    Bb << Eigen::RowVector4d::Zero(), p.dNx.transpose(),  //
+        -p.dNy.transpose(), Eigen::RowVector4d::Zero(),   //
+        -p.dNx.transpose(), p.dNy.transpose();
+    const Eigen::Matrix<double, 3, 12> wABm = (w * A_) * Bm;
+    const Eigen::Matrix<double, 3, 8> wBBb = (w * B_) * Bb, wDBb = (w * D_) * Bb;
+    Kt.topLeftCorner<12, 12>().noalias() += Bm.transpose() * wABm;
+    Kt.block<12, 8>(0, 12).noalias() += Bm.transpose() * wBBb;
+    Kt.block<8, 8>(12, 12).noalias() += Bb.transpose() * wDBb;
+    Kt.block<12, 12>(8, 8).noalias() += p.Bs_wr.transpose() * ((w * As_) * p.Bs_wr);
+    Eigen::Matrix<double, 12, 1> bd;  // Bd on (u, v, theta_z)
+    bd << 0.5 * p.dNy, -0.5 * p.dNx, p.N;
+    const Eigen::Matrix<double, 12, 12> Kd = (w * drill_modulus_) * bd * bd.transpose();
+    Kt.topLeftCorner<8, 8>() += Kd.topLeftCorner<8, 8>();
+    Kt.block<8, 4>(0, 20) += Kd.topRightCorner<8, 4>();
+    Kt.block<4, 8>(20, 0) += Kd.bottomLeftCorner<4, 8>();
+    Kt.bottomRightCorner<4, 4>() += Kd.bottomRightCorner<4, 4>();
+    // K_s (Eq. 22): G^T N_s G = S (x) I3 on (u, v, w), S = the resultants on the gradients.
+    if (N.squaredNorm() > 0) {
+      const Eigen::Matrix4d S = w * (N(0) * p.dNx * p.dNx.transpose() + N(1) * p.dNy * p.dNy.transpose() +
+                                     N(2) * (p.dNx * p.dNy.transpose() + p.dNy * p.dNx.transpose()));
+      for (int t = 0; t < 3; ++t) Kt.block<4, 4>(4 * t, 4 * t) += S;
+    }
   }
-  if (f_W) *f_W = to_world(f);
-  if (K_W) *K_W = to_world(K);
+  if (f_W) *f_W = to_world(ElemVec(Eigen::Map<const ElemVec>(F.data())));
+  if (!K_W) return;
+  Kt.block<8, 12>(12, 0) = Kt.block<12, 8>(0, 12).transpose();
+  ElemMat K;  // node-major
+  for (int b = 0; b < 4; ++b)
+    for (int r = 0; r < kNodeDofs; ++r)
+      for (int a = 0; a < 4; ++a)
+        for (int s = 0; s < kNodeDofs; ++s) K(kNodeDofs * a + s, kNodeDofs * b + r) = Kt(4 * s + a, 4 * r + b);
+  *K_W = to_world(K);
 }
 
 }  // namespace deployfx::fem

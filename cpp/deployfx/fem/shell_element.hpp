@@ -96,6 +96,10 @@ class ShellElement {
     Eigen::Matrix<double, 3, kElementDofs> Nr;  // (beta_x, beta_y, theta_z)
     double weight;                              // Gauss weight x det J (m^2)
     Eigen::Vector3d X_W;                        // mid-surface position (m)
+    // The same operators by node (internal_force): shape functions and their gradients, and Bs
+    // on the dofs it touches, (w, theta_x, theta_y) of the four nodes, column 4 k + node.
+    Eigen::Vector4d N, dNx, dNy;
+    Eigen::Matrix<double, 2, 12> Bs_wr;
   };
   /// d_E = T d_W, T = blockdiag(R_WE^T); returns T^T K T.
   ElemMat to_world(const ElemMat& K_E) const;
