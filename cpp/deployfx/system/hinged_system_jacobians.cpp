@@ -142,14 +142,25 @@ integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, 
 
   // Elastic block: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) + G_w(w) + K_T), with
   // G_y(x) = sum_i x_j M_ik - x_k M_ij (i, j, k cyclic) and G_w(w) = sum w_i w_l M_il - |w|^2 M_ii.
+  // Summed as sum_im c_im M_im over E's pattern in one pass (ten arrays read once, not a pass per
+  // term).
   const Eigen::Vector3d& w = k.w_E;
-  Eigen::VectorXd vals = c_a * app_->mass_values();
   const Eigen::Vector3d x = 2 * c_v * w + c_q * k.al_E;
+  Eigen::Matrix3d c = c_q * (w * w.transpose() - w.squaredNorm() * Eigen::Matrix3d::Identity());
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, l = (i + 2) % 3;
-    vals += x(j) * app_->Mij_values(i, l) - x(l) * app_->Mij_values(i, j);
-    for (int m = 0; m < 3; ++m)
-      vals += c_q * (w(i) * w(m) - (i == m ? w.squaredNorm() : 0.0)) * app_->Mij_values(i, m);
+    c(i, l) += x(j);
+    c(i, j) -= x(l);
+  }
+  const Eigen::Index nnz = app_->mass_values().size();
+  Eigen::VectorXd vals(nnz);
+  const double* M = app_->mass_values().data();
+  const double* Mim[9];
+  for (int im = 0; im < 9; ++im) Mim[im] = app_->Mij_values(im / 3, im % 3).data();
+  for (Eigen::Index n = 0; n < nnz; ++n) {
+    double sum = c_a * M[n];
+    for (int im = 0; im < 9; ++im) sum += c(im / 3, im % 3) * Mim[im][n];
+    vals[n] = sum;
   }
   app_->add_elastic_block(k.d, c_v, c_q, vals);  // K_T (or K_L) and Rayleigh damping
   S.E = app_->block().with_values(vals);
