@@ -81,7 +81,7 @@ def _solve_check(E, nb=7, seed=3):
     r = rng.normal(size=nb + n)
     x_ref = np.linalg.solve(S, r)
     E = sp.csc_matrix(E)
-    E.sort_indices()  # as Eigen's compressed storage requires (scipy's slicing may leave them unsorted)
+    E.sort_indices()  # Eigen's compressed storage requires it; scipy's slicing may not keep it
     x, method = _core.bordered_solve(A, B, C, E, r, True)
     backward = np.abs(S @ x - r).max() / (np.abs(S).max() * np.abs(x).max())
     return method, np.abs(x - x_ref).max() / np.abs(x_ref).max(), backward
@@ -100,7 +100,8 @@ def test_node_blocks_of_a_clamped_shell_mesh():
     pattern = plate.model.stiffness_matrix().tocsc()[free][:, free].tocoo()  # explicit zeros kept
     M = plate.model.mass_matrix()[free][:, free]
     dense = (M + 0.3 * 0.01**2 * pattern).toarray()
-    E = sp.csc_matrix((dense[pattern.row, pattern.col], (pattern.row, pattern.col)), shape=dense.shape)
+    E = sp.csc_matrix((dense[pattern.row, pattern.col], (pattern.row, pattern.col)),
+                      shape=dense.shape)
     method, error, backward = _solve_check(E)
     assert method == "block-ldlt"
     assert backward <= 10 * np.finfo(float).eps
@@ -114,7 +115,8 @@ def test_nodes_with_held_dofs_and_an_indefinite_block():
     # still factorize by blocks, each pivot block through its own pivoted LDL^T: exact against
     # LAPACK to 1e-10.
     _, _, _, E, _, _ = bordered(1, nodes=30)
-    keep = [d for d in range(E.shape[0]) if not (d // 6 % 4 == 1 and d % 6 >= 3)]  # every 4th node: 3 dofs
+    # Every fourth node keeps three dofs.
+    keep = [d for d in range(E.shape[0]) if not (d // 6 % 4 == 1 and d % 6 >= 3)]
     E = E[keep][:, keep]
     lam = np.linalg.eigvalsh(E.toarray())
     E = (E - 1.5 * lam[3] * sp.identity(E.shape[0])).tocsc()

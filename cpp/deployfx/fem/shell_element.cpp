@@ -282,7 +282,8 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
   // each operator's dofs are contiguous: a sixth of the multiply-adds of the 24-column products.
   // strain_energy() keeps the 24-column operators (the tests' independent reference).
   const ElemVec d = to_element(d_W);
-  const Eigen::Map<const Eigen::Matrix<double, kNodeDofs, 4>> X(d.data());  // column a: node a's dofs
+  // Column a: node a's dofs.
+  const Eigen::Map<const Eigen::Matrix<double, kNodeDofs, 4>> X(d.data());
   Eigen::Matrix<double, kNodeDofs, 4> F = Eigen::Matrix<double, kNodeDofs, 4>::Zero();
   ElemMat Kt;  // type-major
   if (K_W) Kt.setZero();
@@ -297,7 +298,9 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
     const Eigen::Vector3d eps(px(0) + 0.5 * px.squaredNorm(), py(1) + 0.5 * py.squaredNorm(),
                               py(0) + px(1) + px.dot(py));
     // kappa = (beta_x,x, beta_y,y, beta_x,y + beta_y,x), beta_x = theta_y, beta_y = -theta_x.
-    auto field = [&](int type, const Eigen::Vector4d& shape) { return shape.dot(X.row(type).transpose()); };
+    auto field = [&](int type, const Eigen::Vector4d& shape) {
+      return shape.dot(X.row(type).transpose());
+    };
     const double ty_x = field(TY, p.dNx), ty_y = field(TY, p.dNy);
     const double tx_x = field(TX, p.dNx), tx_y = field(TX, p.dNy);
     const Eigen::Vector3d kap(ty_x, -tx_y, ty_y - tx_x);
@@ -345,8 +348,9 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
     Kt.bottomRightCorner<4, 4>() += Kd.bottomRightCorner<4, 4>();
     // K_s (Eq. 22): G^T N_s G = S (x) I3 on (u, v, w), S = the resultants on the gradients.
     if (N.squaredNorm() > 0) {
-      const Eigen::Matrix4d S = w * (N(0) * p.dNx * p.dNx.transpose() + N(1) * p.dNy * p.dNy.transpose() +
-                                     N(2) * (p.dNx * p.dNy.transpose() + p.dNy * p.dNx.transpose()));
+      const Eigen::Matrix4d S =
+          w * (N(0) * p.dNx * p.dNx.transpose() + N(1) * p.dNy * p.dNy.transpose() +
+               N(2) * (p.dNx * p.dNy.transpose() + p.dNy * p.dNx.transpose()));
       for (int t = 0; t < 3; ++t) Kt.block<4, 4>(4 * t, 4 * t) += S;
     }
   }
@@ -357,7 +361,8 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
   for (int b = 0; b < 4; ++b)
     for (int r = 0; r < kNodeDofs; ++r)
       for (int a = 0; a < 4; ++a)
-        for (int s = 0; s < kNodeDofs; ++s) K(kNodeDofs * a + s, kNodeDofs * b + r) = Kt(4 * s + a, 4 * r + b);
+        for (int s = 0; s < kNodeDofs; ++s)
+          K(kNodeDofs * a + s, kNodeDofs * b + r) = Kt(4 * s + a, 4 * r + b);
   *K_W = to_world(K);
 }
 

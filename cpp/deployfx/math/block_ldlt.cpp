@@ -21,7 +21,8 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
   auto same_pattern = [&](int c, int d) {
     const int len = outer[c + 1] - outer[c];
     return len == outer[d + 1] - outer[d] &&
-           std::memcmp(inner + outer[c], inner + outer[d], sizeof(int) * static_cast<std::size_t>(len)) == 0;
+           std::memcmp(inner + outer[c], inner + outer[d],
+                       sizeof(int) * static_cast<std::size_t>(len)) == 0;
   };
   // Groups: runs of at most kBlock consecutive dofs with one column pattern.
   std::vector<int> group(n), local(n), group_size;
@@ -43,7 +44,8 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
   std::vector<Eigen::Triplet<double>> edges;
   for (int d = 0; d < n; ++d)
     if (local[d] == 0)
-      for (int p = outer[d]; p < outer[d + 1]; ++p) edges.emplace_back(group[inner[p]], group[d], 1.0);
+      for (int p = outer[d]; p < outer[d + 1]; ++p)
+        edges.emplace_back(group[inner[p]], group[d], 1.0);
   SparseMatrix graph(ng, ng);
   graph.setFromTriplets(edges.begin(), edges.end());
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
@@ -92,7 +94,8 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
   for (int d = 0; d < n; ++d) dof_slot_[d] = kBlock * rank[group[d]] + local[d];
   padding_.clear();
   for (int g = 0; g < ng; ++g)
-    for (int l = group_size[g]; l < kBlock; ++l) padding_.push_back(kSize * 2 * rank[g] + l * (kBlock + 1));
+    for (int l = group_size[g]; l < kBlock; ++l)
+      padding_.push_back(kSize * 2 * rank[g] + l * (kBlock + 1));
   value_target_.assign(static_cast<std::size_t>(A.nonZeros()), -1);
   for (int c = 0; c < n; ++c)
     for (int p = outer[c]; p < outer[c + 1]; ++p) {
@@ -102,7 +105,8 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
       if (I == J) {
         value_target_[p] = static_cast<long>(kSize) * 2 * J + within;
       } else if (I > J) {
-        const auto first = off_rows_.begin() + off_begin_[J], last = off_rows_.begin() + off_begin_[J + 1];
+        const auto first = off_rows_.begin() + off_begin_[J];
+        const auto last = off_rows_.begin() + off_begin_[J + 1];
         const int t = static_cast<int>(std::lower_bound(first, last, I) - off_rows_.begin());
         value_target_[p] = static_cast<long>(kSize) * (2 * ng + t) + within;
       }
@@ -115,7 +119,8 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
 }
 
 bool BlockLDLT::factorize(const SparseMatrix& A) {
-  if (blocks_ == 0 || A.rows() != n_ || A.nonZeros() != static_cast<Eigen::Index>(value_target_.size()))
+  if (blocks_ == 0 || A.rows() != n_ ||
+      A.nonZeros() != static_cast<Eigen::Index>(value_target_.size()))
     return false;
   std::fill(values_.begin(), values_.end(), 0.0);
   for (int k : padding_) values_[k] = 1.0;
@@ -136,7 +141,8 @@ bool BlockLDLT::factorize(const SparseMatrix& A) {
       const Block Y = L_jk * ConstMap(values_.data() + kSize * 2 * k);  // L_jk D_k
       D.noalias() -= Y * L_jk.transpose();
       for (int t = s + 1; t < off_begin_[k + 1]; ++t)
-        Map(off + kSize * position_[off_rows_[t]]).noalias() -= ConstMap(off + kSize * t) * Y.transpose();
+        Map(off + kSize * position_[off_rows_[t]]).noalias() -=
+            ConstMap(off + kSize * t) * Y.transpose();
     }
     D = (0.5 * (D + D.transpose())).eval();
     const Eigen::LDLT<Block> ldlt(D);
@@ -159,13 +165,15 @@ void BlockLDLT::solve_in_place(Rhs& X) const {
   for (int j = 0; j < blocks_; ++j) {  // L y = b, by columns (unit diagonal)
     const auto y_j = X.template middleRows<kBlock>(kBlock * j);
     for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t)
-      X.template middleRows<kBlock>(kBlock * off_rows_[t]).noalias() -= ConstMap(off + kSize * t) * y_j;
+      X.template middleRows<kBlock>(kBlock * off_rows_[t]).noalias() -=
+          ConstMap(off + kSize * t) * y_j;
   }
   for (int j = blocks_ - 1; j >= 0; --j) {  // L^T x = D^-1 y: row j of L^T is column j of L
     auto x_j = X.template middleRows<kBlock>(kBlock * j);
     x_j = (ConstMap(values_.data() + kSize * (2 * j + 1)) * x_j).eval();
     for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t)
-      x_j.noalias() -= ConstMap(off + kSize * t).transpose() * X.template middleRows<kBlock>(kBlock * off_rows_[t]);
+      x_j.noalias() -=
+          ConstMap(off + kSize * t).transpose() * X.template middleRows<kBlock>(kBlock * off_rows_[t]);
   }
 }
 
@@ -183,7 +191,8 @@ Eigen::MatrixXd BlockLDLT::solve(const Eigen::MatrixXd& B) const {
   // fixed-size (6 x 6) (6 x kWidth) product.
   constexpr int kWidth = 8;
   Eigen::MatrixXd out(n_, B.cols());
-  Eigen::Matrix<double, Eigen::Dynamic, kWidth, Eigen::RowMajor> X(static_cast<Eigen::Index>(kBlock) * blocks_, kWidth);
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, kWidth, Eigen::RowMajor>;
+  Rows X(static_cast<Eigen::Index>(kBlock) * blocks_, kWidth);
   for (Eigen::Index c0 = 0; c0 < B.cols(); c0 += kWidth) {
     const Eigen::Index w = std::min<Eigen::Index>(kWidth, B.cols() - c0);
     X.setZero();
