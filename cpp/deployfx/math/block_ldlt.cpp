@@ -77,7 +77,7 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
     off_rows_.insert(off_rows_.end(), column[j].begin(), column[j].end());
     off_begin_.push_back(static_cast<int>(off_rows_.size()));
   }
-  // Row j's blocks G_jk, k < j, in increasing k (compressed rows of the column pattern).
+  // Row j's blocks L_jk, k < j, in increasing k (compressed rows of the column pattern).
   row_begin_.assign(ng + 1, 0);
   for (int i : off_rows_) ++row_begin_[i + 1];
   for (int j = 0; j < ng; ++j) row_begin_[j + 1] += row_begin_[j];

@@ -39,9 +39,6 @@ class BlockLDLT {
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
 
-  int rows() const { return n_; }
-  /// Blocks (kBlock x kBlock) in the factor, diagonal ones included (cost accounting).
-  long factor_blocks() const { return blocks_ + static_cast<long>(off_rows_.size()); }
   /// Whether the last analyze succeeded.
   bool analyzed() const { return blocks_ > 0; }
 
