@@ -57,8 +57,7 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     block_.emplace(Eigen::SparseMatrix<double>(Eigen::MatrixXd::Ones(r, r).sparseView()), free_);
     M_vals_ = block_->aligned(ffi_.M());
     K_vals_ = block_->aligned(K_free_);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Mij_vals_[3 * i + j] = block_->aligned(ffi_.Mij(i, j));
+    align_Mij();
   } else if (flexible()) {
     free_ = fem::free_dofs(model.num_dofs(), spec_.fixed_dofs);
     K_free_ = fem::restrict(model.stiffness(), free_);
@@ -67,9 +66,30 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     block_.emplace(model.stiffness(), free_);
     M_vals_ = block_->aligned(ffi_.M());
     K_vals_ = block_->aligned(model.stiffness());
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Mij_vals_[3 * i + j] = block_->aligned(ffi_.Mij(i, j));
+    align_Mij();
   }
+}
+
+void FlexibleBody::align_Mij() {
+  for (int im = 0; im < 9; ++im) {
+    const Eigen::VectorXd vals = block_->aligned(ffi_.Mij(im / 3, im % 3));
+    AlignedNonzeros& nz = Mij_nonzeros_[im];
+    for (Eigen::Index n = 0; n < vals.size(); ++n)
+      if (vals[n] != 0.0) nz.index.push_back(static_cast<int>(n)), nz.value.push_back(vals[n]);
+  }
+}
+
+Eigen::VectorXd FlexibleBody::mass_combination(double c_a, const Eigen::Matrix3d& c) const {
+  Eigen::VectorXd vals = c_a * M_vals_;
+  for (int im = 0; im < 9; ++im) {
+    const double cim = c(im / 3, im % 3);
+    if (cim == 0.0) continue;
+    const AlignedNonzeros& nz = Mij_nonzeros_[im];
+    const int* index = nz.index.data();
+    const double* value = nz.value.data();
+    for (std::size_t k = 0; k < nz.index.size(); ++k) vals[index[k]] += cim * value[k];
+  }
+  return vals;
 }
 
 Eigen::VectorXd FlexibleBody::full(const Eigen::VectorXd& d_free) const {

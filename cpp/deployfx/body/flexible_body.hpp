@@ -98,8 +98,10 @@ class FlexibleBody {
   /// reduced model), with L_c, K_L and the nine M_ij aligned to it: a combination of them is a
   /// sum of value arrays (fem/free_block.hpp). Absent for a rigid appendage.
   const fem::FreeBlock& block() const { return *block_; }
-  const Eigen::VectorXd& mass_values() const { return M_vals_; }
-  const Eigen::VectorXd& Mij_values(int i, int j) const { return Mij_vals_[3 * i + j]; }
+  /// c_a L_c + sum_ij c(i, j) M_ij, aligned with block(): the inertial part of a Newton matrix's
+  /// elastic block. Each M_ij is summed over its own nonzeros (on a mesh, a translation pair's
+  /// entries: a twelfth of the block's).
+  Eigen::VectorXd mass_combination(double c_a, const Eigen::Matrix3d& c) const;
   const Eigen::SparseMatrix<double>& stiffness() const { return K_free_; }  ///< K_L, free
   const Eigen::SparseMatrix<double>& mass() const { return M_free_; }       ///< L_c, free
 
@@ -113,7 +115,13 @@ class FlexibleBody {
   Eigen::SparseMatrix<double> K_free_, M_free_;
   std::optional<fem::FreeBlock> block_;
   Eigen::VectorXd M_vals_, K_vals_;
-  std::array<Eigen::VectorXd, 9> Mij_vals_;
+  // The nonzeros of each M_ij aligned with block(): positions in its values, and the values.
+  struct AlignedNonzeros {
+    std::vector<int> index;
+    std::vector<double> value;
+  };
+  std::array<AlignedNonzeros, 9> Mij_nonzeros_;
+  void align_Mij();
 };
 
 }  // namespace deployfx::body

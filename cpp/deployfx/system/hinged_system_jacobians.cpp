@@ -142,8 +142,8 @@ integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, 
 
   // Elastic block: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) + G_w(w) + K_T), with
   // G_y(x) = sum_i x_j M_ik - x_k M_ij (i, j, k cyclic) and G_w(w) = sum w_i w_l M_il - |w|^2 M_ii.
-  // Summed as sum_im c_im M_im over E's pattern in one pass (ten arrays read once, not a pass per
-  // term).
+  // Summed as c_a L_c + sum_im c_im M_im, each M_im over its own nonzeros
+  // (FlexibleBody::mass_combination).
   const Eigen::Vector3d& w = k.w_E;
   const Eigen::Vector3d x = 2 * c_v * w + c_q * k.al_E;
   Eigen::Matrix3d c = c_q * (w * w.transpose() - w.squaredNorm() * Eigen::Matrix3d::Identity());
@@ -152,16 +152,7 @@ integrate::BlockMatrix HingedSystem::iteration_matrix(const Eigen::VectorXd& q, 
     c(i, l) += x(j);
     c(i, j) -= x(l);
   }
-  const Eigen::Index nnz = app_->mass_values().size();
-  Eigen::VectorXd vals(nnz);
-  const double* M = app_->mass_values().data();
-  const double* Mim[9];
-  for (int im = 0; im < 9; ++im) Mim[im] = app_->Mij_values(im / 3, im % 3).data();
-  for (Eigen::Index n = 0; n < nnz; ++n) {
-    double sum = c_a * M[n];
-    for (int im = 0; im < 9; ++im) sum += c(im / 3, im % 3) * Mim[im][n];
-    vals[n] = sum;
-  }
+  Eigen::VectorXd vals = app_->mass_combination(c_a, c);
   app_->add_elastic_block(k.d, c_v, c_q, vals);  // K_T (or K_L) and Rayleigh damping
   S.E = app_->block().with_values(vals);
 
