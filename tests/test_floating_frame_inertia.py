@@ -73,6 +73,26 @@ def test_products_read_each_pair_of_mass_blocks_once(setup):
         ffi.products(z[:-1])
 
 
+def test_products_memo_returns_each_vectors_own_products(setup):
+    # products() keeps its last four results: asked again for a vector it holds, it must give
+    # that vector's products (bit for bit), for one it has dropped (five others since) a fresh
+    # computation, and for a vector with other values (however close) its own products.
+    _, plate, ffi = setup
+    rng = np.random.default_rng(4)
+    zs = [rng.normal(size=plate.model.num_dofs) for _ in range(6)]
+    first = [ffi.products(z) for z in zs]
+    for z, P in zip(zs[::-1], first[::-1]):  # the last four from the memo, the first two anew
+        again = ffi.products(z.copy())
+        for k in range(9):
+            np.testing.assert_array_equal(again[k], P[k])
+    z = zs[0] * (1 + 1e-9)
+    P = ffi.products(z)
+    for k in range(9):
+        Mk = ffi.Mij(k // 3, k % 3)
+        assert np.abs(P[k] - Mk @ z).max() <= 1e-14 * abs(Mk).max() * np.abs(z).sum(), k
+    assert np.abs(P[1] - first[0][1]).max() > 0
+
+
 def material_points(lam):
     """Quadrature over the volume, independent of the package: 4x4 Gauss points per element and
     3 per ply. Yields the reference position P, the displacement operator Nop (3 x ndof) of the

@@ -25,7 +25,14 @@ void define_body(py::module_& m) {
       .def_property_readonly("C", &FloatingFrameInertia::C)
       .def_property_readonly("M", &FloatingFrameInertia::M)
       .def("Mij", &FloatingFrameInertia::Mij, py::arg("i"), py::arg("j"))
-      .def("products", &FloatingFrameInertia::products, py::arg("z"),
+      .def("products",
+           [](const FloatingFrameInertia& f, const Eigen::VectorXd& z) {
+             const FloatingFrameInertia::Products P = f.products(z);
+             std::vector<Eigen::VectorXd> out;
+             for (int k = 0; k < 9; ++k) out.push_back(P[k]);
+             return out;
+           },
+           py::arg("z"),
            "The nine M_ij z, index 3 i + j, that the d-dependent integrals are built from.")
       .def("first_moment", &FloatingFrameInertia::first_moment, py::arg("d"))
       .def("inertia_tensor",

@@ -99,7 +99,22 @@ FloatingFrameInertia::SparseMatrix FloatingFrameInertia::Mij(int i, int j) const
 
 FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::VectorXd& z) const {
   check(z, "z");
+  {
+    const std::lock_guard<std::mutex> lock(memo_.mutex);
+    for (int s = 0; s < kMemoSlots; ++s)
+      if (memo_.z[s].size() == z.size() && memo_.z[s] == z) return memo_.products[s];
+  }
   Products P;
+  P.p_ = std::make_shared<const std::array<Eigen::VectorXd, 9>>(compute_products(z));
+  const std::lock_guard<std::mutex> lock(memo_.mutex);
+  memo_.z[memo_.next] = z;
+  memo_.products[memo_.next] = P;
+  memo_.next = (memo_.next + 1) % kMemoSlots;
+  return P;
+}
+
+std::array<Eigen::VectorXd, 9> FloatingFrameInertia::compute_products(const Eigen::VectorXd& z) const {
+  std::array<Eigen::VectorXd, 9> P;
   const Eigen::Index n = z.size();
   if (dense_) {
     const Eigen::VectorXd all = Mij_stacked_ * z;

@@ -14,6 +14,8 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
+#include <memory>
+#include <mutex>
 
 #include "deployfx/fem/shell_model.hpp"
 
@@ -44,8 +46,18 @@ class FloatingFrameInertia {
 
   /// The products M_ij z (index k = 3 i + j) that every d-dependent integral below is built
   /// from: the cost of those integrals. A caller that needs several at one d forms them once and
-  /// passes them to the overloads taking `Products`.
-  using Products = std::array<Eigen::VectorXd, 9>;
+  /// passes them to the overloads taking `Products`. Immutable and shared: products() keeps the
+  /// last few it formed and hands the same arrays out again for the same z (a Newton iteration
+  /// asks for them at one d in its residual, momentum, matrix and momentum Jacobian).
+  class Products {
+   public:
+    Products() = default;
+    const Eigen::VectorXd& operator[](int k) const { return (*p_)[k]; }
+
+   private:
+    friend class FloatingFrameInertia;
+    std::shared_ptr<const std::array<Eigen::VectorXd, 9>> p_;
+  };
   Products products(const Eigen::VectorXd& z) const;
 
   /// s(d) = S0 + S1 d, the first moment of the deformed body, kg m.
@@ -141,6 +153,20 @@ class FloatingFrameInertia {
   Eigen::MatrixXd Mij_stacked_;
   bool dense_ = false;
   SparseMatrix M_;
+  std::array<Eigen::VectorXd, 9> compute_products(const Eigen::VectorXd& z) const;
+  // The memo of products(): the last kMemoSlots (z, M_ij z), replaced in turn, shared by threads
+  // under its lock. A copy starts empty.
+  static constexpr int kMemoSlots = 4;
+  struct Memo {
+    Memo() = default;
+    Memo(const Memo&) {}
+    Memo& operator=(const Memo&) { return *this; }
+    std::mutex mutex;
+    std::array<Eigen::VectorXd, kMemoSlots> z;
+    std::array<Products, kMemoSlots> products;
+    int next = 0;
+  };
+  mutable Memo memo_;
 };
 
 }  // namespace deployfx::body
