@@ -59,6 +59,31 @@ def test_modal_force_is_the_projected_shell_force(cantilever, green_strain):
         assert np.abs(f_r - force.linear_stiffness @ eta).max() > 0.1 * np.abs(f_r).max()
 
 
+def test_strain_energy_next_to_the_last_evaluation_is_exact(cantilever):
+    # Within 1e-8 (relative, energy norm) of the last eta that f and T were evaluated at, U comes
+    # from that evaluation by Taylor's series to second order (ModalInternalForce::strain_energy):
+    # it must equal the direct quartic value to round-off (1e-13 relative; the dropped terms are
+    # of order (|delta|/|eta|)^3 <= 1e-27), and the shell's own energy of Phi eta to 1e-9 (as
+    # above), in the cubic-dominated range.
+    shell, fixed = cantilever
+    Phi = _random_basis(shell, fixed, 5, seed=3)
+    force = _core.ModalInternalForce(shell._impl, Phi, True)
+    direct = _core.ModalInternalForce(shell._impl, Phi, True)
+    rng = np.random.default_rng(4)
+    eta = rng.standard_normal(5) * 0.1 / np.abs(Phi).max()
+    for rel in (1e-9, 1e-11, 0.0):
+        near = eta + rel * np.abs(eta).max() * rng.standard_normal(5)
+        force.internal_force(eta)  # the memo at eta
+        U = force.strain_energy(near)
+        direct.internal_force(-3 * eta)  # its memo far away: the quartic product itself
+        assert U == pytest.approx(direct.strain_energy(near), rel=1e-13, abs=0)
+        assert U == pytest.approx(shell.strain_energy(Phi @ near), rel=1e-9)
+    # and the Taylor step really is what ran: an eta_m-only evaluation would miss by (|delta|/|eta|)
+    force.internal_force(eta)
+    near = eta * (1 + 1e-9)
+    assert abs(force.strain_energy(near) - force.strain_energy(eta)) > 1e-10 * abs(force.strain_energy(eta))
+
+
 def test_ritz_basis_holds_the_clamped_modes():
     # Rayleigh-Ritz in a subspace containing the first k modes returns their eigenvalues exactly
     # (and, by interlacing, as the k lowest Ritz values); the basis is M-orthonormal and

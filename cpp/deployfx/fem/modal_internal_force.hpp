@@ -32,8 +32,11 @@ class ModalInternalForce {
   const Eigen::MatrixXd& linear_stiffness() const { return K_; }
   /// f(eta) and/or T(eta) (either may be null).
   void evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f, Eigen::MatrixXd* T) const;
-  /// U(eta), J.
+  /// U(eta), J. Near the last eta that f or T were evaluated at (within kTaylorReach of it,
+  /// relative, in the energy norm of K), from that evaluation by Taylor's series, exact to
+  /// round-off.
   double strain_energy(const Eigen::VectorXd& eta) const;
+  static constexpr double kTaylorReach = 1e-8;
 
  private:
   // A(eta) and B(eta) as (r x r) matrices; the last eta's are kept (Newton evaluates the
