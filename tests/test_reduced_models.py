@@ -64,24 +64,32 @@ def test_strain_energy_next_to_the_last_evaluation_is_exact(cantilever):
     # from that evaluation by Taylor's series to second order (ModalInternalForce::strain_energy):
     # it must equal the direct quartic value to round-off (1e-13 relative; the dropped terms are
     # of order (|delta|/|eta|)^3 <= 1e-27), and the shell's own energy of Phi eta to 1e-9 (as
-    # above), in the cubic-dominated range.
+    # above), in the cubic-dominated range. The first-order term is 1e-9 of U here, so a wrong
+    # U_m or f_m fails; the second-order one, 1e-18, is below this test's resolution.
     shell, fixed = cantilever
     Phi = _random_basis(shell, fixed, 5, seed=3)
     force = _core.ModalInternalForce(shell._impl, Phi, True)
     direct = _core.ModalInternalForce(shell._impl, Phi, True)
     rng = np.random.default_rng(4)
     eta = rng.standard_normal(5) * 0.1 / np.abs(Phi).max()
-    for rel in (1e-9, 1e-11, 0.0):
-        near = eta + rel * np.abs(eta).max() * rng.standard_normal(5)
+    K = force.linear_stiffness
+
+    def energy_norm(x):
+        return np.sqrt(x @ K @ x)
+
+    for rel in (1e-9, 1e-11, 0.0):  # within the reach (1e-8) by construction
+        delta = rng.standard_normal(5)
+        near = eta + rel * energy_norm(eta) / energy_norm(delta) * delta
         force.internal_force(eta)  # the memo at eta
         U = force.strain_energy(near)
         direct.internal_force(-3 * eta)  # its memo far away: the quartic product itself
         assert U == pytest.approx(direct.strain_energy(near), rel=1e-13, abs=0)
         assert U == pytest.approx(shell.strain_energy(Phi @ near), rel=1e-9)
-    # and the Taylor step really is what ran: an eta_m-only evaluation would miss by (|delta|/|eta|)
+    # Not the memo's own energy: a value for eta_m, not eta, would miss by about 2e-9 relative.
     force.internal_force(eta)
     near = eta * (1 + 1e-9)
-    assert abs(force.strain_energy(near) - force.strain_energy(eta)) > 1e-10 * abs(force.strain_energy(eta))
+    U_eta = force.strain_energy(eta)
+    assert abs(force.strain_energy(near) - U_eta) > 1e-10 * abs(U_eta)
 
 
 def test_ritz_basis_holds_the_clamped_modes():

@@ -99,8 +99,8 @@ class FlexibleBody {
   /// sum of value arrays (fem/free_block.hpp). Absent for a rigid appendage.
   const fem::FreeBlock& block() const { return *block_; }
   /// c_a L_c + sum_ij c(i, j) M_ij, aligned with block(): the inertial part of a Newton matrix's
-  /// elastic block. Each M_ij is summed over its own nonzeros (on a mesh, a translation pair's
-  /// entries: a twelfth of the block's).
+  /// elastic block. Each M_ij is summed over its own nonzeros (on a mesh, 3-11 % of the
+  /// block's entries each: it couples two translation components).
   Eigen::VectorXd mass_combination(double c_a, const Eigen::Matrix3d& c) const;
   const Eigen::SparseMatrix<double>& stiffness() const { return K_free_; }  ///< K_L, free
   const Eigen::SparseMatrix<double>& mass() const { return M_free_; }       ///< L_c, free

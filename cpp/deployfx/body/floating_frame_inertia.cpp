@@ -113,7 +113,8 @@ FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::Vecto
   return P;
 }
 
-std::array<Eigen::VectorXd, 9> FloatingFrameInertia::compute_products(const Eigen::VectorXd& z) const {
+std::array<Eigen::VectorXd, 9> FloatingFrameInertia::compute_products(
+    const Eigen::VectorXd& z) const {
   std::array<Eigen::VectorXd, 9> P;
   const Eigen::Index n = z.size();
   if (dense_) {

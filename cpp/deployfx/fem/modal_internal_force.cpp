@@ -160,9 +160,7 @@ void ModalInternalForce::evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f
 double ModalInternalForce::strain_energy(const Eigen::VectorXd& eta) const {
   if (eta.size() != size())
     throw std::invalid_argument("eta has wrong size: expected " + std::to_string(size()));
-  double U = 0.5 * eta.dot(K_ * eta);
-  if (!green_) return U;
-  Eigen::MatrixXd A, B;
+  if (!green_) return 0.5 * eta.dot(K_ * eta);
   {
     // Within kTaylorReach of the memo's eta_m in the energy norm (a converged Newton step's
     // state against its last iterate), the energy's Taylor series about eta_m to second order,
@@ -176,7 +174,8 @@ double ModalInternalForce::strain_energy(const Eigen::VectorXd& eta) const {
     // membrane strain: either way U carries that round-off, 1e-10 J of 4 J.)
     const std::lock_guard<std::mutex> lock(memo_.mutex);
     const Eigen::VectorXd& m = memo_.eta;
-    const Eigen::VectorXd delta = m.size() == eta.size() ? Eigen::VectorXd(eta - m) : Eigen::VectorXd();
+    const Eigen::VectorXd delta =
+        m.size() == eta.size() ? Eigen::VectorXd(eta - m) : Eigen::VectorXd();
     if (delta.size() && delta.dot(K_ * delta) <= kTaylorReach * kTaylorReach * m.dot(K_ * m)) {
       const Eigen::VectorXd Am = memo_.A * m, Bm = memo_.B * m;
       const double U_m = 0.5 * m.dot(K_ * m) + m.dot(Am) / 6.0 + m.dot(Bm) / 24.0;
@@ -185,8 +184,9 @@ double ModalInternalForce::strain_energy(const Eigen::VectorXd& eta) const {
       return U_m + f_m.dot(delta) + 0.5 * delta.dot(T_delta);
     }
   }
+  Eigen::MatrixXd A, B;
   polynomial(eta, &A, &B);
-  return U + eta.dot(A * eta) / 6.0 + eta.dot(B * eta) / 24.0;
+  return 0.5 * eta.dot(K_ * eta) + eta.dot(A * eta) / 6.0 + eta.dot(B * eta) / 24.0;
 }
 
 }  // namespace deployfx::fem
