@@ -273,12 +273,6 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_tensor_jacobian(con
   return contract_inertia(products(d), true, x);
 }
 
-FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_tensor_jacobian(const Products& Pd,
-                                                                             const Eigen::Vector3d& x) const {
-  check(Pd[0], "Pd");
-  return contract_inertia(Pd, true, x);
-}
-
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_rate_jacobian(const Eigen::VectorXd& dd,
                                                                            const Eigen::Vector3d& x) const {
   check(dd, "dd");

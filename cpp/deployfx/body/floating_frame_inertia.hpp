@@ -45,10 +45,10 @@ class FloatingFrameInertia {
   const SparseMatrix& M() const { return M_; }              ///< L_c: the element mass matrix
 
   /// The products M_ij z (index k = 3 i + j) that every d-dependent integral below is built
-  /// from: the cost of those integrals. A caller that needs several at one d forms them once and
-  /// passes them to the overloads taking `Products`. Immutable and shared: products() keeps the
-  /// last few it formed and hands the same arrays out again for the same z (a Newton iteration
-  /// asks for them at one d in its residual, momentum, matrix and momentum Jacobian).
+  /// from: the cost of those integrals. Immutable and shared: products() keeps the last few it
+  /// formed and hands the same arrays out again for the same z, so the integrals at one d share
+  /// one set (a Newton iteration asks for them at one d in its residual, momentum, matrix and
+  /// momentum Jacobian).
   class Products {
    public:
     Products() = default;
@@ -62,12 +62,10 @@ class FloatingFrameInertia {
 
   /// s(d) = S0 + S1 d, the first moment of the deformed body, kg m.
   Eigen::Vector3d first_moment(const Eigen::VectorXd& d) const;
-  /// J(d) about E's origin, kg m^2 (Pd: products(d)).
+  /// J(d) about E's origin, kg m^2.
   Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d) const;
-  Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d, const Products& Pd) const;
   /// H(d) = int rho (P + u)~ N, the rotation-elastic coupling (H_A and kin), (3 x ndof).
   Matrix3X rotation_coupling(const Eigen::VectorXd& d) const;
-  Matrix3X rotation_coupling(const Products& Pd) const;
   /// Kinetic energy for frame velocity V, angular velocity w (E axes), d and its rate dd, J.
   double kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
                         const Eigen::VectorXd& d, const Eigen::VectorXd& dd) const;
@@ -83,12 +81,10 @@ class FloatingFrameInertia {
 
   /// d(J(d) x)/dd for a fixed vector x, (3 x ndof). Also J'(d, dd) x = this(d, x) dd.
   Matrix3X inertia_tensor_jacobian(const Eigen::VectorXd& d, const Eigen::Vector3d& x) const;
-  Matrix3X inertia_tensor_jacobian(const Products& Pd, const Eigen::Vector3d& x) const;
   /// d(J'(d, dd) x)/dd for fixed dd and x, (3 x ndof).
   Matrix3X inertia_rate_jacobian(const Eigen::VectorXd& dd, const Eigen::Vector3d& x) const;
-  /// d(H(d) y)/dd for a fixed y (independent of d), (3 x ndof) (Py: products(y)).
+  /// d(H(d) y)/dd for a fixed y (independent of d), (3 x ndof).
   Matrix3X rotation_coupling_jacobian(const Eigen::VectorXd& y) const;
-  static Matrix3X rotation_coupling_jacobian(const Products& Py);
 
   /// The inertial forces of the body, int rho A dV, int rho r x A dV about E's origin and
   /// int rho N^T A dV, for the point acceleration A = a + al x r + w x (w x r) + 2 w x u' + u''
@@ -123,6 +119,10 @@ class FloatingFrameInertia {
  private:
   FloatingFrameInertia() = default;
   void check(const Eigen::VectorXd& d, const char* name) const;
+  // The integrals above from the products Pd = products(d) (Py = products(y)).
+  Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d, const Products& Pd) const;
+  Matrix3X rotation_coupling(const Products& Pd) const;
+  static Matrix3X rotation_coupling_jacobian(const Products& Py);
   // Rows g_ij = dE_ij/dd = [C_(ij) + C_(ji)] + (M_ij z + M_ji z)^T (z = d; without C: the rate
   // part, z = dd), from the products P = M_k z, contracted with x as tr(g) x - g x.
   Matrix3X contract_inertia(const Products& P, bool with_C, const Eigen::Vector3d& x) const;

@@ -282,12 +282,11 @@ Eigen::MatrixXd HingeChain::link_inertia(const Kin& k, int c) const {
   const Kin::Link& L = k.links[c];
   const body::FloatingFrameInertia& ffi = B.flex->inertia();
   const Eigen::Matrix3d S = skew(ffi.first_moment(L.d));
-  const body::FloatingFrameInertia::Products Pd = ffi.products(L.d);
   Mc.block<3, 3>(0, 0) += ffi.mass() * Eigen::Matrix3d::Identity();
   Mc.block<3, 3>(0, 3) -= S;
   Mc.block<3, 3>(3, 0) += S;
-  Mc.block<3, 3>(3, 3) += ffi.inertia_tensor(L.d, Pd);
-  const Eigen::Matrix<double, 3, Eigen::Dynamic> H = ffi.rotation_coupling(Pd);
+  Mc.block<3, 3>(3, 3) += ffi.inertia_tensor(L.d);
+  const Eigen::Matrix<double, 3, Eigen::Dynamic> H = ffi.rotation_coupling(L.d);
   const std::vector<int>& free = B.flex->free_dofs();
   for (int i = 0; i < B.n_d; ++i) {
     Mc.block<3, 1>(0, 6 + i) = ffi.S1().col(free[i]);

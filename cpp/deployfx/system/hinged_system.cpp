@@ -152,9 +152,8 @@ Eigen::Matrix<double, 6, 1> HingedSystem::frame_momentum(const Kin& k) const {
   if (!flexible_) return p;
   const body::FloatingFrameInertia& ffi = this->ffi();
   const Eigen::Vector3d s = ffi.first_moment(k.d);
-  const body::FloatingFrameInertia::Products Pd = ffi.products(k.d);
   p.head<3>() += ffi.mass() * k.V_E + k.w_E.cross(s) + ffi.S1() * k.dd;
-  p.tail<3>() += s.cross(k.V_E) + ffi.inertia_tensor(k.d, Pd) * k.w_E + ffi.rotation_coupling(Pd) * k.dd;
+  p.tail<3>() += s.cross(k.V_E) + ffi.inertia_tensor(k.d) * k.w_E + ffi.rotation_coupling(k.d) * k.dd;
   return p;
 }
 

@@ -184,15 +184,13 @@ Eigen::MatrixXd HingedSystem::momentum_jacobian(const Eigen::VectorXd& q, const 
   Eigen::Matrix<double, 6, 6> ME = frame_rigid_.spatial();
   Eigen::Matrix<double, 6, 1> pE;
   Eigen::Matrix<double, 3, Eigen::Dynamic> H;
-  body::FloatingFrameInertia::Products Pd;  // M_ij d, shared by J(d), H(d) and dJ(d)/dd
   if (flexible_) {
-    Pd = ffi().products(k.d);
     const Eigen::Vector3d s = ffi().first_moment(k.d);
     ME.topLeftCorner<3, 3>() += ffi().mass() * Eigen::Matrix3d::Identity();
     ME.block<3, 3>(0, 3) -= skew(s);
     ME.block<3, 3>(3, 0) += skew(s);
-    ME.bottomRightCorner<3, 3>() += ffi().inertia_tensor(k.d, Pd);
-    H = ffi().rotation_coupling(Pd);
+    ME.bottomRightCorner<3, 3>() += ffi().inertia_tensor(k.d);
+    H = ffi().rotation_coupling(k.d);
   }
   pE << k.V_E, k.w_E;
   pE = (ME * pE).eval();
@@ -235,7 +233,7 @@ Eigen::MatrixXd HingedSystem::momentum_jacobian(const Eigen::VectorXd& q, const 
   const Eigen::Vector3d r_O = k.r_W + k.R_WB * p;
   const auto& S1 = ffi().S1();
   const Eigen::MatrixXd dp = c_v * S1 + c_q * skew(k.w_E) * S1;
-  const Eigen::MatrixXd dh = c_v * H + c_q * (-skew(k.V_E) * S1 + ffi().inertia_tensor_jacobian(Pd, k.w_E) +
+  const Eigen::MatrixXd dh = c_v * H + c_q * (-skew(k.V_E) * S1 + ffi().inertia_tensor_jacobian(k.d, k.w_E) +
                                               ffi().rotation_coupling_jacobian(k.dd));
   const Eigen::MatrixXd dP_W = k.R_WE * dp;
   const Eigen::MatrixXd dH_W = skew(r_O) * dP_W + k.R_WE * dh;
