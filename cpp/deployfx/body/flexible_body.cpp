@@ -66,6 +66,7 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     block_.emplace(model.stiffness(), free_);
     M_vals_ = block_->aligned(ffi_.M());
     K_vals_ = block_->aligned(model.stiffness());
+    if (green_) tangent_slots_ = block_->block_slots(model.element_slots());
     align_Mij();
   }
 }
@@ -159,9 +160,8 @@ void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, doubl
     modal_->evaluate(d, nullptr, &T);
     vals += (c_q + c_v * spec_.beta_K) * Eigen::Map<const Eigen::VectorXd>(T.data(), T.size());
   } else if (spec_.fidelity == Fidelity::kNonlinear) {
-    Eigen::SparseMatrix<double> KT;
-    spec_.model->internal_force(d, nullptr, &KT);      // K_L + K_L* + K_s, Eq. 19, 22, 23
-    block_->add(KT, c_q + c_v * spec_.beta_K, vals);  // and the damping beta_K K_T (its d-derivative dropped)
+    // K_L + K_L* + K_s (Eq. 19, 22, 23) and the damping beta_K K_T (its d-derivative dropped).
+    spec_.model->add_tangent(d, tangent_slots_, c_q + c_v * spec_.beta_K, vals.data());
   } else {
     vals += (c_q + c_v * spec_.beta_K) * K_vals_;
   }

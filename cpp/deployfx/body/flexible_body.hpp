@@ -115,6 +115,9 @@ class FlexibleBody {
   Eigen::SparseMatrix<double> K_free_, M_free_;
   std::optional<fem::FreeBlock> block_;
   Eigen::VectorXd M_vals_, K_vals_;
+  // Full nonlinear fidelity: each element entry's slot in block()'s values (-1: a fixed dof), so
+  // the tangent is assembled straight into the iteration matrix's elastic block.
+  std::vector<int> tangent_slots_;
   // The nonzeros of each M_ij aligned with block(): positions in its values, and the values.
   struct AlignedNonzeros {
     std::vector<int> index;

@@ -39,12 +39,14 @@ Eigen::VectorXd FreeBlock::aligned(const SparseMatrix& A) const {
   return v;
 }
 
-void FreeBlock::add(const SparseMatrix& A, double coef, Eigen::VectorXd& values) const {
-  if (!A.isCompressed() || A.nonZeros() != pattern_nnz_)
-    throw std::logic_error("FreeBlock::add: the matrix's pattern differs from the block's");
-  const double* a = A.valuePtr();
-  for (Eigen::Index k = 0; k < pattern_nnz_; ++k)
-    if (slots_[k] >= 0) values(slots_[k]) += coef * a[k];
+std::vector<int> FreeBlock::block_slots(const std::vector<int>& pattern_slots) const {
+  std::vector<int> out(pattern_slots.size());
+  for (std::size_t k = 0; k < pattern_slots.size(); ++k) {
+    const int p = pattern_slots[k];
+    if (p < 0 || p >= pattern_nnz_) throw std::logic_error("FreeBlock::block_slots: slot outside the pattern");
+    out[k] = static_cast<int>(slots_[static_cast<std::size_t>(p)]);
+  }
+  return out;
 }
 
 FreeBlock::SparseMatrix FreeBlock::with_values(const Eigen::VectorXd& values) const {

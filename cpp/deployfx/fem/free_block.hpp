@@ -20,9 +20,9 @@ class FreeBlock {
   /// A's entries on the free rows and columns, aligned with matrix()'s values. A's pattern must
   /// lie within `pattern` (throws std::logic_error otherwise).
   Eigen::VectorXd aligned(const SparseMatrix& A) const;
-  /// values += coef * A for a compressed A with exactly the pattern `pattern` (e.g. assembled
-  /// by the same element loop); throws std::logic_error if A's pattern differs.
-  void add(const SparseMatrix& A, double coef, Eigen::VectorXd& values) const;
+  /// Slots of `pattern`'s values (e.g. ShellModel::element_slots()) mapped to the block's: -1
+  /// where the entry is on a fixed row or column.
+  std::vector<int> block_slots(const std::vector<int>& pattern_slots) const;
   /// matrix() with the given values.
   SparseMatrix with_values(const Eigen::VectorXd& values) const;
 

@@ -132,22 +132,35 @@ double ShellModel::strain_energy(const Eigen::VectorXd& u) const {
 void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f,
                                 SparseMatrix* K_T) const {
   check_size(u, "u");
-  if (!f && !K_T) return;
   if (f) f->setZero(num_dofs());
   if (K_T) {
-    *K_T = assemble([&](const ShellElement& el, int e) {
-      ElemVec fe;
-      ElemMat Ke;
-      el.internal_force(gather(u, e), &fe, &Ke);
-      if (f) scatter(fe, e, f);
-      return Ke;
-    });
+    *K_T = pattern_;
+    add_tangent(u, slots_, 1.0, K_T->valuePtr(), f);
     return;
   }
+  if (!f) return;
   for (int e = 0; e < num_elements(); ++e) {
     ElemVec fe;
     elements_[e].internal_force(gather(u, e), &fe, nullptr);
     scatter(fe, e, f);
+  }
+}
+
+void ShellModel::add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, double coef,
+                             double* values, Eigen::VectorXd* f) const {
+  check_size(u, "u");
+  constexpr int kEntries = kElementDofs * kElementDofs;
+  if (slots.size() != slots_.size())
+    throw std::invalid_argument("add_tangent: slots must have 576 entries per element (" +
+                                std::to_string(slots_.size()) + "), got " + std::to_string(slots.size()));
+  for (int e = 0; e < num_elements(); ++e) {
+    ElemVec fe;
+    ElemMat Ke;
+    elements_[e].internal_force(gather(u, e), f ? &fe : nullptr, &Ke);
+    if (f) scatter(fe, e, f);
+    const int* slot = slots.data() + static_cast<std::size_t>(e) * kEntries;
+    for (int k = 0; k < kEntries; ++k)
+      if (slot[k] >= 0) values[slot[k]] += coef * Ke.data()[k];
   }
 }
 

@@ -42,6 +42,15 @@ class ShellModel {
   double strain_energy(const Eigen::VectorXd& u) const;
   /// Internal force and tangent stiffness K_L + K_L* + K_s at displacement u.
   void internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, SparseMatrix* K_T) const;
+  /// For each element e, where its 24 x 24 entries (column-major, k = 0..575) land in the values
+  /// of stiffness()'s pattern: element_slots()[576 e + k].
+  const std::vector<int>& element_slots() const { return slots_; }
+  /// The tangent K_T(u) added as values[slots[576 e + k]] += coef (K_e)_k, skipping slots < 0:
+  /// assembly straight into any array whose entries the caller has mapped the elements' entries
+  /// to (a free-dof block's, fem/free_block.hpp), with no sparse matrix in between. With `f`
+  /// (num_dofs()), the internal force is added to it too.
+  void add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, double coef,
+                   double* values, Eigen::VectorXd* f = nullptr) const;
 
  private:
   void check_size(const Eigen::VectorXd& u, const char* name) const;
