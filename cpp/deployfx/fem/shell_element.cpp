@@ -87,6 +87,7 @@ ShellElement::ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::
   R_WE_.col(0) = e1;
   R_WE_.col(1) = n.cross(e1);
   R_WE_.col(2) = n;
+  world_axes_ = R_WE_ == Eigen::Matrix3d::Identity();
 
   Eigen::Matrix<double, 4, 2> xy;
   for (int i = 0; i < 4; ++i) {
@@ -174,18 +175,21 @@ ShellElement::Kinematics ShellElement::kinematics(int q) const {
 }
 
 ElemVec ShellElement::to_element(const ElemVec& d_W) const {
+  if (world_axes_) return d_W;
   ElemVec d_E;
   for (int b = 0; b < 8; ++b) d_E.segment<3>(3 * b) = R_WE_.transpose() * d_W.segment<3>(3 * b);
   return d_E;
 }
 
 ElemVec ShellElement::to_world(const ElemVec& f_E) const {
+  if (world_axes_) return f_E;
   ElemVec f_W;
   for (int b = 0; b < 8; ++b) f_W.segment<3>(3 * b) = R_WE_ * f_E.segment<3>(3 * b);
   return f_W;
 }
 
 ElemMat ShellElement::to_world(const ElemMat& K_E) const {
+  if (world_axes_) return K_E;
   ElemMat K_W;
   for (int a = 0; a < 8; ++a)
     for (int b = 0; b < 8; ++b)

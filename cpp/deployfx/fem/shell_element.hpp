@@ -101,7 +101,8 @@ class ShellElement {
     Eigen::Vector4d N, dNx, dNy;
     Eigen::Matrix<double, 2, 12> Bs_wr;
   };
-  /// d_E = T d_W, T = blockdiag(R_WE^T); returns T^T K T.
+  /// d_E = T d_W, T = blockdiag(R_WE^T); returns T^T K T. (The identity, copying, for an element
+  /// whose axes are the world's: a mesh in the x-y plane along x.)
   ElemMat to_world(const ElemMat& K_E) const;
   ElemVec to_element(const ElemVec& d_W) const;
   ElemVec to_world(const ElemVec& f_E) const;
@@ -111,6 +112,7 @@ class ShellElement {
   Eigen::Matrix2d As_;
   double I0_ = 0, I1_ = 0, I2_ = 0;
   Eigen::Matrix3d R_WE_;
+  bool world_axes_ = false;  // R_WE_ is exactly the identity
   double area_ = 0;
   double drill_modulus_ = 0;  // N/m
   std::array<GaussPoint, 4> gp_;
