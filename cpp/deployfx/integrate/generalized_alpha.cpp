@@ -69,6 +69,14 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     factor_h_ = -1;  // the next attempt starts from a fresh matrix
     return StepFailure(e.str());
   };
+  auto not_converged = [&] {
+    factor_h_ = -1;
+    if (newton_.reuse_jacobian && solver_.dense()) full_steps_ = newton_.full_newton_steps;  // the retry: full Newton
+    std::ostringstream e;
+    e << "Newton did not converge at t = " << t1 << " s (step " << h << " s) in "
+      << newton_.max_iterations << " iterations";
+    return StepFailure(e.str());
+  };
   // Predictor. Generalized-alpha carries the part of vdot it cannot resolve (stiff root modes,
   // a contact's impulse, the start-up) as a transient that alternates in sign and decays by the
   // high-frequency root -rs = -alpha_f/(1 - alpha_f) (= -rho_inf) per step: the panel's
@@ -111,8 +119,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     // Eq. 42-43, integrated: the momentum rows, scaled like accelerations.
     const Eigen::VectorXd rm = nc ? Eigen::VectorXd((sys_.momentum(q1, v1) - Pi_n) / (h * gamma * c)) : Eigen::VectorXd();
     if (!r.allFinite() || !rm.allFinite()) throw fail("the residual is not finite");
-    const bool fresh = refactor;
-    if (fresh) {
+    auto factorize_here = [&] {
       const BlockMatrix S = sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c);
       if (!solver_.factorize(S)) throw fail("the iteration matrix is singular");
       if (nc) {  // d/dvdot of the momentum rows above
@@ -121,30 +128,35 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       }
       factor_h_ = h;
       refactor = !newton_.reuse_jacobian || full;
-    }
+    };
+    bool fresh = refactor;
+    if (fresh) factorize_here();
     // Newton on (w, the other accelerations) with the iteration matrix of the balance rows, then
     // the base's algorithmic acceleration from the momentum rows. (The residual's dependence on
     // vdot.head(nc) through q_{n+1}, v_{n+1} is attributed to w: the two differ by O(h).)
     // Only a fresh matrix's solve is exact: the convergence test below trusts an exact Newton
     // step at the round-off floor; an old matrix's step is inexact by more than the solve's
     // dropped skew part (BorderedSolver::solve).
-    const Eigen::VectorXd dv = solver_.solve(r, fresh);
-    const Eigen::VectorXd db =
-        nc ? Eigen::VectorXd(momentum_lu_.solve(rm - momentum_jacobian_.rightCols(n - nc) * dv.tail(n - nc)))
-           : Eigen::VectorXd();
-    const double size = nc ? std::max(dv.lpNorm<Eigen::Infinity>(), db.lpNorm<Eigen::Infinity>())
-                           : dv.lpNorm<Eigen::Infinity>();
-    if (!std::isfinite(size)) throw fail("the Newton increment is not finite");
-    const double rho = previous > 0 ? size / previous : 0.0;
+    Eigen::VectorXd dv, db;
+    double size = 0, rho = 0;
     const double contraction = solver_.dense() ? newton_.contraction_dense : newton_.contraction;
-    if (!fresh && solver_.dense() && rho > contraction && newton_.full_newton_steps > 0) {
-      // Reuse does not pay here: full Newton for the rest of this step and the next few.
-      full_steps_ = newton_.full_newton_steps;
-      full = true;
-    }
-    if (!fresh && rho >= 1) {  // an old matrix that no longer contracts: refactor here instead
-      refactor = true;
-      continue;
+    for (;;) {
+      dv = solver_.solve(r, fresh);
+      if (nc) db = momentum_lu_.solve(rm - momentum_jacobian_.rightCols(n - nc) * dv.tail(n - nc));
+      size = nc ? std::max(dv.lpNorm<Eigen::Infinity>(), db.lpNorm<Eigen::Infinity>()) : dv.lpNorm<Eigen::Infinity>();
+      if (!std::isfinite(size)) throw fail("the Newton increment is not finite");
+      rho = previous > 0 ? size / previous : 0.0;
+      if (!fresh && solver_.dense() && rho > contraction && newton_.full_newton_steps > 0) {
+        // Reuse does not pay here: full Newton for the rest of this step and the next few.
+        full_steps_ = newton_.full_newton_steps;
+        full = true;
+      }
+      if (fresh || rho < 1) break;
+      // An old matrix that no longer contracts: a fresh one here, for the same residual, as the
+      // next iteration (its residual would be this one again).
+      if (++it > newton_.max_iterations) throw not_converged();
+      factorize_here();
+      fresh = true;
     }
     // A 2-cycle of exact Newton: a fresh matrix's increment that undoes the previous one at the
     // same size (Newton on a tanh-like law, e.g. the lock's regularized friction at stick, jumps
@@ -193,12 +205,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     if (!fresh && (rho > contraction || (stalling && rho > 1e-3))) refactor = true;  // slow or stalled, old matrix
     previous = size;
   }
-  factor_h_ = -1;
-  if (newton_.reuse_jacobian && solver_.dense()) full_steps_ = newton_.full_newton_steps;  // the retry: full Newton
-  std::ostringstream e;
-  e << "Newton did not converge at t = " << t1 << " s (step " << h << " s) in "
-    << newton_.max_iterations << " iterations";
-  throw StepFailure(e.str());
+  throw not_converged();
 }
 
 }  // namespace deployfx::integrate
