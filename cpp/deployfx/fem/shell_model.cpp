@@ -131,14 +131,15 @@ double ShellModel::strain_energy(const Eigen::VectorXd& u) const {
 
 void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f,
                                 SparseMatrix* K_T) const {
-  check_size(u, "u");
-  if (f) f->setZero(num_dofs());
-  if (K_T) {
+  if (K_T) {  // add_tangent checks u
+    if (f) f->setZero(num_dofs());
     *K_T = pattern_;
     add_tangent(u, slots_, 1.0, K_T->valuePtr(), f);
     return;
   }
+  check_size(u, "u");
   if (!f) return;
+  f->setZero(num_dofs());
   for (int e = 0; e < num_elements(); ++e) {
     ElemVec fe;
     elements_[e].internal_force(gather(u, e), &fe, nullptr);
