@@ -93,10 +93,12 @@ HingedSystem::Kin HingedSystem::kinematics(const Eigen::VectorXd& q, const Eigen
     k.rate = v(iv_theta_);
     if (a) k.accel = (*a)(iv_theta_);
   }
-  const int n = ffi().num_dofs();
-  k.d = iq_d_ >= 0 ? app_->full(q.segment(iq_d_, num_elastic())) : Eigen::VectorXd::Zero(n);
-  k.dd = iv_d_ >= 0 ? app_->full(v.segment(iv_d_, num_elastic())) : Eigen::VectorXd::Zero(n);
-  k.ddd = (a && iv_d_ >= 0) ? app_->full(a->segment(iv_d_, num_elastic())) : Eigen::VectorXd::Zero(n);
+  if (flexible_) {  // a rigid appendage's d stays empty: its integrals are frame_rigid_'s
+    const int n = num_elastic();
+    k.d = app_->full(q.segment(iq_d_, n));
+    k.dd = app_->full(v.segment(iv_d_, n));
+    k.ddd = a ? app_->full(a->segment(iv_d_, n)) : Eigen::VectorXd::Zero(ffi().num_dofs());
+  }
 
   const Eigen::Vector3d& ax = hinge_.axis_B;
   const Eigen::Vector3d& p = hinge_.point_B;
