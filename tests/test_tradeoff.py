@@ -152,3 +152,22 @@ def test_cases_are_checked():
     assert Case("reduced-nonlinear", 4, 3, 0.01, HHT(-0.05), modes=5).name == \
         "reduced-nonlinear(5) 4x3 dt=0.01 HHT(-0.05)"
     assert Case("rigid", dt=0.02).name == "rigid dt=0.02 GA(0.8)"
+    with pytest.raises(ValueError, match="derivative_modes"):
+        Case("reduced-linear", modes=5, derivative_modes=2)
+    with pytest.raises(ValueError, match="derivative_modes"):
+        Case("reduced-nonlinear", modes=5, derivative_modes=-1)
+    assert Case("reduced-nonlinear", 4, 3, modes=10, derivative_modes=3).name == \
+        "reduced-nonlinear(10, md=3) 4x3 dt=0.01 GA(0.8)"
+
+
+def test_derivative_modes_set_the_reduced_basis(run):
+    # The modal derivatives of every pair among the first k modes: k (k + 1) / 2 proposed
+    # (fem/ritz_basis.hpp); the default is min(modes, 6). Too many for the basis: a failure row.
+    _, ref, _ = run
+    cases = [Case("reduced-nonlinear", 2, 1, 0.01, modes=3, derivative_modes=k) for k in (1, 3, 4)]
+    rows = dfx.tradeoff(cases + [Case("reduced-nonlinear", 2, 1, 0.01, modes=3)], ref, T_END)
+    one, three, four, default = rows[1:]
+    assert (one["modal_derivatives"], three["modal_derivatives"]) == (1, 6)
+    assert one["basis_size"] < three["basis_size"] == default["basis_size"]
+    assert default["modal_derivatives"] == 6 and one["failure"] is None
+    assert four["failure"].startswith("scene:") and "derivative_modes" in four["failure"]

@@ -44,7 +44,7 @@ ERRORS = {"lock_time_error_s": "|first lock time error| (s)",
           "node_E_rms_rel_error": "node E deflection, RMS error / max |ref|"}
 
 #: Columns of a row, in order. Units in the names: s, N, m; ``*_rel_error`` are fractions.
-COLUMNS = ("label", "model", "modes", "basis_size", "mesh", "coordinates", "dt_s", "tolerance",
+COLUMNS = ("label", "model", "modes", "modal_derivatives", "basis_size", "mesh", "coordinates", "dt_s", "tolerance",
            "integrator", "setup_s", "wall_time_s", "steps", "substeps", "newton_iterations",
            "ms_per_step", "t_reached_s", "lock_time_s", "peak_lock_force_N",
            "max_node_E_deflection_m",
@@ -76,6 +76,10 @@ class Case:
     - ``scheme``: the integrator (``GeneralizedAlpha``, ``HHT`` or ``Newmark``);
     - ``modes``: clamped modes of a reduced model (None: the scene's default, 10); must be None
       for the full fidelities;
+    - ``derivative_modes``: the reduced-nonlinear basis's modal derivatives are those of every
+      pair among its first ``derivative_modes`` modes (None: min(modes, 6); fewer: a smaller
+      basis, cheaper per step, whose node E deflection drifts from the full model's); must be None
+      for the other fidelities;
     - ``tolerance`` (m or rad): error-controlled steps of at most ``dt``
       (:meth:`deployfx.scene.Model.simulate`); None: fixed steps;
     - ``label``: the row's name (None: made from the fields, see :attr:`name`).
@@ -87,6 +91,7 @@ class Case:
     dt: float = 0.01
     scheme: Scheme = GeneralizedAlpha(0.8)
     modes: Optional[int] = None
+    derivative_modes: Optional[int] = None
     tolerance: Optional[float] = None
     label: Optional[str] = None
 
@@ -107,6 +112,13 @@ class Case:
                                  f"not {self.model!r}")
             if as_int("modes", self.modes) < 1:
                 raise ValueError(f"modes = {self.modes} is out of range: must be >= 1")
+        if self.derivative_modes is not None:
+            if self.model != "reduced-nonlinear":
+                raise ValueError(f"derivative_modes = {self.derivative_modes} is only for the "
+                                 f"reduced-nonlinear model, not {self.model!r}")
+            if as_int("derivative_modes", self.derivative_modes) < 0:
+                raise ValueError(f"derivative_modes = {self.derivative_modes} is out of range: "
+                                 "must be >= 0 (and <= modes)")
         if self.tolerance is not None:
             tol = as_float("tolerance", self.tolerance)
             if not (math.isfinite(tol) and tol > 0):
@@ -123,10 +135,13 @@ class Case:
     @property
     def name(self) -> str:
         """The label, or one made from the fields, e.g. ``reduced-nonlinear(10) 15x10 dt=0.01
-        GA(0.8)``."""
+        GA(0.8)``, or ``reduced-nonlinear(10, md=3) ...`` with ``derivative_modes = 3``."""
         if self.label is not None:
             return self.label
-        model = self.model if self.modes is None else f"{self.model}({self.modes})"
+        size = [] if self.modes is None else [str(self.modes)]
+        if self.derivative_modes is not None:
+            size.append(f"md={self.derivative_modes}")
+        model = f"{self.model}({', '.join(size)})" if size else self.model
         mesh = "" if self.model == "rigid" else f" {self.mesh}"
         step = f"dt<={self.dt:g} tol={self.tolerance:g}" if self.tolerance else f"dt={self.dt:g}"
         return f"{model}{mesh} {step} {scheme_label(self.scheme)}"
@@ -193,7 +208,7 @@ def tradeoff(cases: Iterable[CaseLike], reference: Union[CaseLike, Result], t_en
     if repeat < 1:
         raise ValueError(f"repeat = {repeat} is out of range: must be >= 1")
     overrides = dict(scene_overrides or {})
-    for key in ("model", "nx", "ny", "modes", "layup"):
+    for key in ("model", "nx", "ny", "modes", "derivative_modes", "layup"):
         if key in overrides:
             raise ValueError(f"scene_overrides must not set {key!r}: it is a Case field or an "
                              "argument")
@@ -240,6 +255,8 @@ def _run(case: Case, t_end: float, layup: int, repeat: int,
     kwargs = dict(overrides, nx=case.nx, ny=case.ny)
     if case.modes is not None:
         kwargs["modes"] = case.modes
+    if case.derivative_modes is not None:
+        kwargs["derivative_modes"] = case.derivative_modes
     start = time.perf_counter()
     try:
         scene = scenes.paper2016(layup, case.model, **kwargs)
@@ -300,7 +317,8 @@ def _row(case: Optional[Case], result: Optional[Result], setup: float, wall: flo
         row.update(label="reference (given result)", model=meta.get("model"),
                    modes=meta.get("modes"), mesh=meta.get("mesh"), dt_s=meta.get("dt"),
                    tolerance=meta.get("tolerance"), integrator=meta.get("integrator"))
-    row.update(basis_size=meta.get("basis_size"), setup_s=setup, wall_time_s=wall,
+    row.update(basis_size=meta.get("basis_size"), modal_derivatives=meta.get("modal_derivatives"),
+               setup_s=setup, wall_time_s=wall,
                steps=meta.get("steps"), substeps=meta.get("substeps"),
                newton_iterations=meta.get("newton_iterations"),
                ref_lock_time_s=ref.lock_time, ref_peak_lock_force_N=ref.peak_force,
