@@ -105,7 +105,7 @@ def build_cases(sweeps, base_mesh: str, base_dt: float, meshes, dts, tolerance: 
     if "fidelity" in sweeps:
         cases += [Case("rigid", **base)]
         cases += [Case(RN, modes=k, **base) for k in (5, 10, 20)]
-        cases += [Case(RN, modes=10, derivative_modes=3, **base)]  # half the basis: 21 vectors
+        cases += [Case(RN, modes=10, derivative_modes=3, **base)]  # 21 basis vectors, not 36
         cases += [Case("reduced-linear", modes=10, **base), Case("linear", **base),
                   Case("nonlinear", **base)]
     if "mesh" in sweeps:

@@ -44,9 +44,9 @@ ERRORS = {"lock_time_error_s": "|first lock time error| (s)",
           "node_E_rms_rel_error": "node E deflection, RMS error / max |ref|"}
 
 #: Columns of a row, in order. Units in the names: s, N, m; ``*_rel_error`` are fractions.
-COLUMNS = ("label", "model", "modes", "modal_derivatives", "basis_size", "mesh", "coordinates", "dt_s", "tolerance",
-           "integrator", "setup_s", "wall_time_s", "steps", "substeps", "newton_iterations",
-           "ms_per_step", "t_reached_s", "lock_time_s", "peak_lock_force_N",
+COLUMNS = ("label", "model", "modes", "modal_derivatives", "basis_size", "mesh", "coordinates",
+           "dt_s", "tolerance", "integrator", "setup_s", "wall_time_s", "steps", "substeps",
+           "newton_iterations", "ms_per_step", "t_reached_s", "lock_time_s", "peak_lock_force_N",
            "max_node_E_deflection_m",
            "lock_time_error_s", "peak_lock_force_rel_error", "node_E_rms_rel_error",
            "ref_lock_time_s", "ref_peak_lock_force_N", "ref_max_node_E_deflection_m",
