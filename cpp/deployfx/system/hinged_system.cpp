@@ -97,7 +97,7 @@ HingedSystem::Kin HingedSystem::kinematics(const Eigen::VectorXd& q, const Eigen
     const int n = num_elastic();
     k.d = app_->full(q.segment(iq_d_, n));
     k.dd = app_->full(v.segment(iv_d_, n));
-    k.ddd = a ? app_->full(a->segment(iv_d_, n)) : Eigen::VectorXd::Zero(ffi().num_dofs());
+    if (a) k.ddd = app_->full(a->segment(iv_d_, n));
   }
 
   const Eigen::Vector3d& ax = hinge_.axis_B;

@@ -119,7 +119,8 @@ class HingedSystem final : public integrate::SecondOrderSystem {
     Eigen::Vector3d V_B = Eigen::Vector3d::Zero(), a_B = Eigen::Vector3d::Zero();  // B's origin, B axes
     double theta = 0, rate = 0, accel = 0;
     Eigen::Vector3d V_E, w_E, a_E, al_E;  // E's origin velocity/acceleration and rates, E axes
-    Eigen::VectorXd d, dd, ddd;           // on inertia()'s dofs (FlexibleBody::full); empty if rigid
+    // On inertia()'s dofs (FlexibleBody::full); empty if rigid, ddd also without accelerations.
+    Eigen::VectorXd d, dd, ddd;
   };
   Kin kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd* a,
                  double t) const;
