@@ -1,8 +1,9 @@
 """The speed-accuracy trade of the paper's scene, measured (issue 6).
 
-:func:`tradeoff` runs a list of :class:`Case` (fidelity, modes, mesh, step, integrator) of the
-paper's scene (You et al. 2016, :func:`deployfx.scenes.paper2016`) and a reference case, times
-each run and measures its error against the reference in the three quantities the paper reports:
+:func:`tradeoff` runs a list of :class:`Case` (fidelity, modes and modal derivatives, mesh, step,
+integrator) of the paper's scene (You et al. 2016, :func:`deployfx.scenes.paper2016`) and a
+reference case, times each run and measures its error against the reference in the three
+quantities the paper reports:
 
 - ``lock_time_error_s`` (s): |first lock time - the reference's| (the first output sample with a
   lock force > 0, :func:`deployfx.metrics.first_lock_time`);
