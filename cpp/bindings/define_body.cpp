@@ -35,18 +35,26 @@ void define_body(py::module_& m) {
            py::arg("z"),
            "The nine M_ij z, index 3 i + j, that the d-dependent integrals are built from.")
       .def("first_moment", &FloatingFrameInertia::first_moment, py::arg("d"))
-      .def("inertia_tensor",
-           py::overload_cast<const Eigen::VectorXd&>(&FloatingFrameInertia::inertia_tensor, py::const_),
+      .def("inertia_tensor", [](const FloatingFrameInertia& f, const Eigen::VectorXd& d) { return f.inertia_tensor(d); },
            py::arg("d"))
       .def("rotation_coupling",
-           py::overload_cast<const Eigen::VectorXd&>(&FloatingFrameInertia::rotation_coupling, py::const_),
-           py::arg("d"))
-      .def("kinetic_energy", &FloatingFrameInertia::kinetic_energy, py::arg("V"), py::arg("w"),
+           [](const FloatingFrameInertia& f, const Eigen::VectorXd& d) { return f.rotation_coupling(d); }, py::arg("d"))
+      .def("kinetic_energy",
+           [](const FloatingFrameInertia& f, const Eigen::Vector3d& V, const Eigen::Vector3d& w, const Eigen::VectorXd& d,
+              const Eigen::VectorXd& dd) { return f.kinetic_energy(V, w, d, dd); },
+           py::arg("V"), py::arg("w"), py::arg("d"), py::arg("dd"))
+      .def("inertia_tensor_rate",
+           [](const FloatingFrameInertia& f, const Eigen::VectorXd& d, const Eigen::VectorXd& dd) {
+             return f.inertia_tensor_rate(d, dd);
+           },
            py::arg("d"), py::arg("dd"))
-      .def("inertia_tensor_rate", &FloatingFrameInertia::inertia_tensor_rate, py::arg("d"), py::arg("dd"))
       .def("centrifugal_load", &FloatingFrameInertia::centrifugal_load, py::arg("w"))
       .def("centrifugal_stiffness", &FloatingFrameInertia::centrifugal_stiffness, py::arg("w"))
       .def("gyroscopic", &FloatingFrameInertia::gyroscopic, py::arg("w"))
-      .def("inertial_forces", &FloatingFrameInertia::inertial_forces, py::arg("a"), py::arg("al"),
-           py::arg("w"), py::arg("d"), py::arg("dd"), py::arg("ddd"));
+      .def("inertial_forces",
+           [](const FloatingFrameInertia& f, const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
+              const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) {
+             return f.inertial_forces(a, al, w, d, dd, ddd);
+           },
+           py::arg("a"), py::arg("al"), py::arg("w"), py::arg("d"), py::arg("dd"), py::arg("ddd"));
 }

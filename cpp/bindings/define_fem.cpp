@@ -12,6 +12,14 @@ namespace py = pybind11;
 using namespace deployfx::fem;
 using deployfx::material::Laminate;
 
+namespace {
+// A modal force with the memo one run would keep (ModalInternalForce::Memo).
+struct ModalForce {
+  ModalInternalForce force;
+  ModalInternalForce::Memo memo;
+};
+}  // namespace
+
 void define_fem(py::module_& m) {
   py::class_<ModalResult>(m, "ModalResult")
       .def_readonly("eigenvalues", &ModalResult::eigenvalues)
@@ -51,27 +59,28 @@ void define_fem(py::module_& m) {
         return py::make_tuple(f, K);
       }, py::arg("u"));
 
-  py::class_<ModalInternalForce>(m, "ModalInternalForce",
-                                 "The shell model's internal force in a Ritz basis d = Phi eta, as an exact "
-                                 "polynomial (fem/modal_internal_force.hpp).")
+  py::class_<ModalForce>(m, "ModalInternalForce",
+                         "The shell model's internal force in a Ritz basis d = Phi eta, as an exact polynomial, "
+                         "with the memo of its last evaluation that one run keeps.")
       .def(py::init([](const ShellModel& model, const Eigen::MatrixXd& Phi, bool green_strain) {
              py::gil_scoped_release release;
-             return std::make_unique<ModalInternalForce>(model, Phi, green_strain);
+             return std::unique_ptr<ModalForce>(new ModalForce{ModalInternalForce(model, Phi, green_strain), {}});
            }),
            py::arg("model"), py::arg("basis"), py::arg("green_strain"))
-      .def_property_readonly("linear_stiffness", &ModalInternalForce::linear_stiffness)
-      .def_property_readonly("quartic_blocks", &ModalInternalForce::quartic_blocks,
+      .def_property_readonly("linear_stiffness", [](const ModalForce& f) { return f.force.linear_stiffness(); })
+      .def_property_readonly("quartic_blocks", [](const ModalForce& f) { return f.force.quartic_blocks(); },
                              "The sizes of the quartic coefficients' diagonal blocks: one block, or two when "
                              "every basis vector is exactly bending or exactly in-plane (fem/parity.hpp).")
       .def("internal_force",
-           [](const ModalInternalForce& f, const Eigen::VectorXd& eta) {
+           [](ModalForce& f, const Eigen::VectorXd& eta) {
              Eigen::VectorXd out;
              Eigen::MatrixXd T;
-             f.evaluate(eta, &out, &T);
+             f.force.evaluate(eta, &out, &T, &f.memo);
              return py::make_tuple(out, T);
            },
            py::arg("eta"))
-      .def("strain_energy", &ModalInternalForce::strain_energy, py::arg("eta"));
+      .def("strain_energy", [](const ModalForce& f, const Eigen::VectorXd& eta) { return f.force.strain_energy(eta, &f.memo); },
+           py::arg("eta"));
 
   py::class_<RectangularPlate>(m, "RectangularPlate")
       .def(py::init<double, double, const Laminate&, int, int>(), py::arg("length"),

@@ -1,4 +1,5 @@
 #include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -6,7 +7,6 @@
 #include "deployfx/integrate/generalized_alpha.hpp"
 #include "deployfx/integrate/linear_system.hpp"
 #include "deployfx/integrate/trajectory.hpp"
-#include "trajectory_dict.hpp"
 
 namespace py = pybind11;
 using namespace deployfx::integrate;
@@ -43,16 +43,30 @@ void define_integrate(py::module_& m) {
         [](const Eigen::MatrixXd& M, const Eigen::MatrixXd& C, const Eigen::MatrixXd& K,
            const Eigen::VectorXd& q0, const Eigen::VectorXd& v0, double t_end, double dt,
            const AlphaParameters& p) {
-          const LinearSystem sys(M, C, K);
+          LinearSystem sys(M, C, K);
           if (q0.size() != M.rows() || v0.size() != M.rows())
             throw std::invalid_argument("q0 and v0 must have the size of M");
           Trajectory tr;
+          std::vector<double> Q, V;
           {
             py::gil_scoped_release release;
-            const GeneralizedAlpha integrator(sys, p);
-            tr = run_fixed_step(integrator, integrator.initial_state(0.0, q0, v0), t_end, dt);
+            GeneralizedAlpha integrator(sys, p);
+            auto record = [&](const AlphaState& s) {
+              Q.insert(Q.end(), s.q.data(), s.q.data() + s.q.size());
+              V.insert(V.end(), s.v.data(), s.v.data() + s.v.size());
+              return true;
+            };
+            tr = run_fixed_step(integrator, integrator.initial_state(0.0, q0, v0), t_end, dt, record);
           }
-          return trajectory_dict(tr);
+          const py::ssize_t n = static_cast<py::ssize_t>(tr.t.size()), m = M.rows();
+          py::dict d;
+          d["t"] = py::array_t<double>(n, tr.t.data());
+          d["q"] = py::array_t<double>({n, m}, Q.data());
+          d["v"] = py::array_t<double>({n, m}, V.data());
+          d["newton_iterations"] = tr.newton_iterations;
+          d["substeps"] = tr.substeps;
+          d["failure"] = tr.failure;
+          return d;
         },
         py::arg("M"), py::arg("C"), py::arg("K"), py::arg("q0"), py::arg("v0"), py::arg("t_end"),
         py::arg("dt"), py::arg("scheme"));

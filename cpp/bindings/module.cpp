@@ -11,9 +11,8 @@ void define_material(py::module_& m);
 void define_fem(py::module_& m);
 void define_body(py::module_& m);
 void define_integrate(py::module_& m);
-void define_system(py::module_& m);
+void define_multibody(py::module_& m);
 void define_contact(py::module_& m);
-void define_chain(py::module_& m);
 
 namespace {
 
@@ -55,7 +54,6 @@ PYBIND11_MODULE(_core, m) {
   define_fem(m);
   define_body(m);
   define_integrate(m);
-  define_system(m);
+  define_multibody(m);
   define_contact(m);
-  define_chain(m);
 }

@@ -2,23 +2,25 @@
 
 - Structures: laminated materials (:class:`Isotropic`, :class:`Orthotropic`, :class:`Ply`,
   :class:`Laminate`) and the MITC4 laminated shell on a :class:`Plate` or any :class:`ShellModel`.
-- Scenes: :class:`Scene` builds a base, hinge, fitting, appendage and lock into a :class:`Model`,
-  or a chain of rigid bodies on several hinges (a yoke and panels) into a :class:`ChainModel`;
-  :mod:`deployfx.scenes` holds the paper's scene (``scenes.paper2016``) and the spin-up beam.
+- Scenes: :class:`Scene` builds a base and a tree of hinges (a yoke and panels, two wings, or one
+  hinge), each body with rigid parts, a panel of any :class:`Fidelity` and a lock, into one
+  immutable :class:`Model`; :mod:`deployfx.scenes` holds the paper's scene (``scenes.paper2016``)
+  and the spin-up beam.
 - Results: :class:`Result` (series, units, ``summary()``, ``save``/:func:`load`), :mod:`plot`.
 - Scene files: :func:`save_scene` / :func:`load_scene` (JSON or TOML, :mod:`deployfx.scene_file`).
 SI units throughout.
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import Plate, ShellModel
-from . import chain, contact, export, integrators, metrics, paper2016, plot, scenes
-from .chain import ChainModel
+from . import contact, export, integrators, metrics, paper2016, plot, scenes, specs
+from .model import Model
 from .results import Result, load
-from .scene import Model, Scene
+from .scene import Scene
+from .specs import Fidelity
 from .scene_file import load_scene, save_scene
 from .tradeoff import tradeoff
 
-__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model",
-           "ChainModel", "Result", "load", "save_scene", "load_scene", "chain", "contact", "export",
-           "integrators", "metrics", "paper2016", "plot", "scenes", "tradeoff"]
+__all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model", "Fidelity",
+           "Result", "load", "save_scene", "load_scene", "contact", "export", "integrators", "metrics", "paper2016",
+           "plot", "scenes", "specs", "tradeoff"]
 __version__ = "0.1.0"

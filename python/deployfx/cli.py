@@ -77,21 +77,42 @@ def _plot_modes(plate, f: np.ndarray, w: np.ndarray, path: Path) -> None:
 
 
 def _write_csv(result, path: Path) -> None:
+    """The run's series as CSV columns: scalars as they are, per-hinge series one column per hinge
+    (``name[k]``), 3-vectors one per component (``name_x``); the raw coordinates and mesh fields
+    are left to Result.save."""
+    from .results import PER_HINGE_SERIES
+
     df_cols = []
     for name in result.series:
+        if name in ("q", "v") or name.startswith("node_displacements"):
+            continue
         a = result[name]
         unit = result.units.get(name, "")
         if a.ndim == 1:
             df_cols.append((f"{name} ({unit})", a))
-        elif a.ndim == 2 and a.shape[1] <= 3:  # vectors (attitude, momenta): one column each
-            for j, axis in enumerate("xyz"[: a.shape[1]]):
+        elif name in PER_HINGE_SERIES:
+            for k in range(a.shape[1]):
+                if a.ndim == 2:
+                    df_cols.append((f"{name}[{k}] ({unit})", a[:, k]))
+                else:
+                    for j, axis in enumerate("xyz"):
+                        df_cols.append((f"{name}[{k}]_{axis} ({unit})", a[:, k, j]))
+        elif a.ndim == 2 and a.shape[1] == 3:  # vectors (attitude, momenta): one column each
+            for j, axis in enumerate("xyz"):
                 df_cols.append((f"{name}_{axis} ({unit})", a[:, j]))
-        # fields over the mesh (node displacements) and raw coordinates are saved by Result.save
     with open(path, "w", newline="") as fh:
         writer = csv.writer(fh)
         writer.writerow([c for c, _ in df_cols])
         for k in range(len(result.t)):
             writer.writerow([f"{a[k]:.10g}" for _, a in df_cols])
+
+
+def _format(value) -> str:
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    if isinstance(value, list):
+        return "[" + ", ".join(_format(v) for v in value) + "]"
+    return str(value)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -119,7 +140,7 @@ def _run(args: argparse.Namespace) -> int:
         except SimulationError as e:
             print(f"deployfx: run stopped: {e}", file=sys.stderr)
             results.append(e.result)
-        labels.append(scene.model.fidelity)
+        labels.append(str(scene.model.fidelities[0]))
     summaries = {label: r.summary() for label, r in zip(labels, results)}
     summary = summaries[labels[0]] if len(labels) == 1 else summaries
     if args.json:
@@ -128,7 +149,7 @@ def _run(args: argparse.Namespace) -> int:
         for label, s in summaries.items():
             print(f"{label}:")
             for key, value in s.items():
-                print(f"  {key}: {value:.6g}" if isinstance(value, float) else f"  {key}: {value}")
+                print(f"  {key}: {_format(value)}")
     if args.out:
         from . import plot
 

@@ -2,8 +2,10 @@
 deformed shape.
 
 The time-series functions take one :class:`~deployfx.results.Result` or a sequence of them
-(overlaid, e.g. linear vs nonlinear as in the paper, one colour per run) and return a
-:class:`matplotlib.figure.Figure`. Curves are labelled with ``labels`` (one per result) if given,
+(overlaid, e.g. linear vs nonlinear as in the paper) and return a
+:class:`matplotlib.figure.Figure`. Any Result works: a per-hinge series draws one curve per hinge
+(colour by hinge when there are several, else by run), and each run has its own line style, so
+curves that coincide stay visible. Curves are labelled with ``labels`` (one per result) if given,
 else with each run's ``metadata["model"]`` (a lone run without one gets no legend). Axis labels
 carry the series' units (from the result, else the paper scene's SI units; overlaid runs must
 agree). A result that lacks a needed series raises ``ValueError`` naming it. Functions with an
@@ -70,7 +72,8 @@ def node_deflection(results: Results, labels: Optional[Sequence[str]] = None,
 def body_attitude(results: Results, labels: Optional[Sequence[str]] = None,
                   ax: Optional[Axes] = None) -> Figure:
     """Attitude angles of the spacecraft body (deg), three components against time (s), the
-    paper's Fig. 13. Colour marks the run, line style the component (x solid, y dashed, z dotted).
+    paper's Fig. 13. Line style marks the component (x solid, y dashed, z dotted), colour the run and
+    component; components identically zero are left out.
     """
     runs = _runs(results, labels)
     fig, ax = _axes(ax, (6.4, 4.0))
@@ -189,9 +192,12 @@ def _require(runs, name: str, vector: bool) -> None:
         if name not in r:
             raise ValueError(f"{which} has no series {name!r} (it has {', '.join(r.series)})")
         shape = r[name].shape
-        if (vector and shape[1:] != (3,)) or (not vector and len(shape) != 1):
+        if (vector and shape[1:] != (3,)) or (not vector and len(shape) not in (1, 2)):
             raise ValueError(f"{which}: series {name!r} must have shape "
-                             f"{'(n, 3)' if vector else '(n,)'}, got {shape}")
+                             f"{'(n, 3)' if vector else '(n,) or (n, hinges)'}, got {shape}")
+
+
+_RUN_STYLES = ("-", "--", "-.", ":")
 
 
 def _unit(runs, name: str) -> str:
@@ -220,17 +226,28 @@ def _scalar(results: Results, labels, ax: Optional[Axes], name: str, quantity: s
     _require(runs, name, vector=False)
     fig, ax = _axes(ax, (6.4, 4.0))
     for k, (r, label) in enumerate(runs):
-        ax.plot(r.t, r[name], color=f"C{k}", label=label, linewidth=1.2)
+        y = np.asarray(r[name])
+        y = y[:, None] if y.ndim == 1 else y
+        H = y.shape[1]
+        for h in range(H):
+            text = label if H == 1 else (f"{label}, hinge {h}" if label else f"hinge {h}")
+            ax.plot(r.t, y[:, h], color=f"C{(h if H > 1 else k) % 10}", linestyle=_RUN_STYLES[k % 4],
+                    label=text, linewidth=1.2)
     ax.set_ylabel(_quantity(runs, name, quantity))
-    _finish(ax, runs, title, legend=any(label for _, label in runs))
+    _finish(ax, runs, title, legend=any(line.get_label() and not line.get_label().startswith("_")
+                                        for line in ax.get_lines()))
     return fig
 
 
 def _vector_lines(ax: Axes, runs, name: str, quantity: str) -> None:
+    """The three components of a (n, 3) series; components identically zero in every run are
+    left out (and from the legend)."""
     _require(runs, name, vector=True)
+    shown = [j for j in range(3) if any(np.any(r[name][:, j] != 0) for r, _ in runs)] or [0, 1, 2]
     for k, (r, label) in enumerate(runs):
-        for j, (axis, style) in enumerate(_COMPONENT_STYLES):
-            ax.plot(r.t, r[name][:, j], color=f"C{k}", linestyle=style, linewidth=1.2,
+        for j in shown:
+            axis, style = _COMPONENT_STYLES[j]
+            ax.plot(r.t, r[name][:, j], color=f"C{(3 * k + j) % 10}", linestyle=style, linewidth=1.2,
                     label=f"{label}, {axis}" if label else axis)
     ax.set_ylabel(_quantity(runs, name, quantity))
 

@@ -1,28 +1,42 @@
 """Results of a simulation: named time series as read-only numpy arrays, their units, metadata.
 
-A :class:`Result` is what ``simulate()`` returns. It is generic: the series depend on the scene.
-The paper's scene (You et al. 2016) records
+A :class:`Result` is what ``simulate()`` returns, with one series vocabulary for every scene (one
+hinge, a chain, a tree): H is the number of hinges, in hinge order; ``result.hinge(k)`` gives a
+Result whose per-hinge series are hinge k's 1-D columns.
 
-============================  ========  =========  ==============================================
-name                          unit      shape      meaning
-============================  ========  =========  ==============================================
-``t``                         s         (n,)       time, strictly increasing
-``deployment_angle``          deg       (n,)       yoke-appendage angle, 90 stowed, 180 deployed
-``spring_torque``             N m       (n,)       hinge spring torque
-``lock_force``                N         (n,)       normal contact force of the lock (>= 0)
-``node_E_deflection``         m         (n,)       transverse deflection of node E (appendage frame)
-``body_attitude``             deg       (n, 3)     attitude angles of the spacecraft body
-``body_angular_momentum``     N m s     (n, 3)     angular momentum of the body
-``total_angular_momentum``    N m s     (n, 3)     angular momentum of the whole system
-============================  ========  =========  ==============================================
+=============================  ========  ==========  =============================================
+name                           unit      shape       meaning
+=============================  ========  ==========  =============================================
+``t``                          s         (n,)        time, strictly increasing
+``deployment_angle``           deg       (n, H)      the hinge's stowed angle + its travel
+``deployment_rate``            deg/s     (n, H)      its rate
+``spring_torque``              N m       (n, H)      tau0 - k_theta theta
+``lock_force``                 N         (n, H)      the lock's normal contact force (>= 0)
+``lock_torque``                N m       (n, H)      the lock's torque on the hinge
+``latched``                    1         (n, H)      1 once the lock has latched
+``hinge_force``                N         (n, H, 3)   the reaction the parent exerts on the hinge's
+                                                     subtree, body axes
+``hinge_moment``               N m       (n, H, 3)   its moment about the hinge point
+``strain_energy``              J         (n, H)      the panel's (0: rigid or none)
+``tip_displacement``           m         (n, H, 3)   the panel's tip node, body axes
+``tip_deflection``             m         (n, H)      along the hinge rotation's direction there
+``body_attitude``              deg       (n, 3)      the base's rotation vector
+``body_angular_momentum``      N m s     (n, 3)      the base's, about W's origin
+``total_angular_momentum``     N m s     (n, 3)      the whole system's
+``body_linear_momentum``       N s       (n, 3)      the base's
+``total_linear_momentum``      N s       (n, 3)      the whole system's
+``kinetic_energy``             J         (n,)
+``potential_energy``           J         (n,)        springs and strain energy
+``q``, ``v``                             (n, nq/nv)  the coordinates and velocities (Model.layout)
+=============================  ========  ==========  =============================================
 
-A chain of hinges (:class:`deployfx.chain.ChainModel`) records the per-hinge series as (n, N)
-arrays, one column per hinge: ``deployment_angle`` (deg, each hinge's travel from stowed),
-``spring_torque``, ``lock_force``, ... (see :meth:`deployfx.chain.ChainModel.simulate`).
+A scene may add its own series (the paper's ``node_E_deflection``, m, (n,)), and a run asked for
+node displacements adds ``node_displacements_<k>`` (m, (n, nodes, 3)).
 
-Metadata is a JSON-compatible dict. Keys the engine writes: ``scene`` (parameters), ``model``
-(``"rigid"``, ``"linear"``, ``"nonlinear"``), ``dt`` (s), ``integrator``, ``wall_time_s`` (s),
-``steps`` (integration steps taken) and, when a run stopped early, ``failure`` (the message).
+Metadata is a JSON-compatible dict. Keys the engine writes: the scene's description, ``hinges``
+(per hinge: parent, fidelity, lock, lock_play_deg, driven, stowed_angle_deg, basis), ``base_free``,
+``dt`` (s), ``t_end`` (s), ``integrator``, ``tolerance``, ``deployfx_version``,
+``run_started_utc``, ``wall_time_s``, the step counts and, when a run stopped early, ``failure``.
 
 ``save(path)`` writes one ``.npz`` (no pickle); :func:`load` reads it back bit for bit.
 """
@@ -48,10 +62,16 @@ _VERSION = 1
 _HEADER = "deployfx_header"  # archive entry of the JSON header
 _PREFIX = "series/"  # archive entries of the arrays; never collides with np.savez's parameters
 
-#: Keys of :meth:`Result.summary`, in order.
-SUMMARY_KEYS = ("first_lock_time_s", "impacts", "peak_lock_force_N", "settling_time_s",
-                "max_node_E_deflection_m", "body_attitude_change_deg", "momentum_drift",
-                "steps", "wall_time_s")
+#: The series with one column per hinge ((n, H, ...)): Result.hinge(k) takes column k.
+PER_HINGE_SERIES = ("deployment_angle", "deployment_rate", "spring_torque", "lock_force", "lock_torque", "latched",
+                    "hinge_force", "hinge_moment", "strain_energy", "tip_displacement", "tip_deflection")
+#: Per-hinge metrics of :meth:`Result.summary` (lists, one value per hinge), in order.
+HINGE_KEYS = ("first_lock_time_s", "impacts", "peak_lock_force_N", "settling_time_s", "max_tip_deflection_m",
+              "peak_hinge_force_N", "peak_hinge_moment_Nm")
+#: System metrics of :meth:`Result.summary`, in order.
+SYSTEM_KEYS = ("max_node_E_deflection_m", "body_attitude_change_deg", "momentum_drift", "steps", "wall_time_s")
+#: Every key :meth:`Result.summary` may give, in order.
+SUMMARY_KEYS = HINGE_KEYS + SYSTEM_KEYS
 
 
 class Result:
@@ -199,61 +219,143 @@ class Result:
         df.attrs["units"] = units
         return df
 
-    def summary(self) -> dict[str, Any]:
+    def hinge(self, k: int) -> "Result":
+        """Hinge k's view: each per-hinge series (``PER_HINGE_SERIES``, (n, H, ...)) replaced by its
+        column k, the system series as they are, and the metadata's ``hinges`` reduced to hinge
+        k's entry (its summary then gives scalars)."""
+        H = self.num_hinges
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+            raise TypeError(f"k must be a hinge index (int), got {type(k).__name__}")
+        if not 0 <= k < H:
+            raise ValueError(f"k = {k} is out of range: must be in [0, {H - 1}] (the run's hinges)")
+        series = {name: (a[:, k] if name in PER_HINGE_SERIES and a.ndim >= 2 else a)
+                  for name, a in self._series.items()}
+        meta = copy.deepcopy(self._metadata)
+        if isinstance(meta.get("hinges"), list) and len(meta["hinges"]) == H:
+            meta["hinges"] = [meta["hinges"][k]]
+        meta["hinge_index"] = int(k)
+        return Result(series, self._units, meta)
+
+    @property
+    def num_hinges(self) -> int:
+        """The run's hinges: the width of its per-hinge series (1 for a hinge view)."""
+        for name in PER_HINGE_SERIES:
+            a = self._series.get(name)
+            if a is not None:
+                return 1 if a.ndim == 1 else int(a.shape[1])
+        hinges = self._metadata.get("hinges")
+        return len(hinges) if isinstance(hinges, list) else 0
+
+    def summary(self, hinge: Optional[int] = None) -> dict[str, Any]:
         """Metrics of the run computed from its series (see :mod:`deployfx.metrics`), in the order
-        of ``SUMMARY_KEYS``. Every key is always present; a value is None when the series it
-        needs is absent or the metric is undefined (e.g. the hinge never locks).
+        of ``SUMMARY_KEYS``: per-hinge metrics as lists (one value per hinge; None where the metric
+        does not apply to that hinge) and system metrics. A key is left out when the scene has
+        nothing it measures (no lock, no deforming panel, a fixed base). ``hinge=k``: hinge k's
+        value of each per-hinge metric instead of the list (a hinge view, ``result.hinge(k)``,
+        gives scalars too).
 
-        - ``first_lock_time_s`` (s): first sample with ``lock_force`` > 0, or, without a lock
-          force, the first time ``deployment_angle`` reaches 180 deg (interpolated).
-        - ``impacts``: number of separate contacts in ``lock_force`` (chatter shorter than 0.05 s
-          merged, contacts below 1e-3 of the peak dropped).
+        Per hinge:
+
+        - ``first_lock_time_s`` (s): the first sample with ``lock_force`` > 0 (hinges with a lock).
+        - ``impacts``: separate contacts in ``lock_force`` (chatter shorter than 0.05 s merged,
+          contacts below 1e-3 of the peak dropped).
         - ``peak_lock_force_N`` (N): max of ``lock_force``.
-        - ``settling_time_s`` (s): ``deployment_angle`` within 0.1 deg of its final value, or
-          within the lock's free play if wider (metadata ``lock_play_deg``: a latched pin may rest
-          anywhere in its groove), and ``lock_force`` within 1 % of its peak of its final value
+        - ``settling_time_s`` (s): ``deployment_angle`` within 0.1 deg of its final value, or within
+          the lock's free play if wider (metadata ``hinges[k].lock_play_deg``: a latched pin may
+          rest anywhere in its groove), and ``lock_force`` within 1 % of its peak of its final value
           from then on, for at least 1 s.
-        - ``max_node_E_deflection_m`` (m): max |``node_E_deflection``|.
-        - ``body_attitude_change_deg`` (deg): |``body_attitude``[-1] - ``body_attitude``[0]|.
-        - ``momentum_drift``: max |H - H(0)| / max |H_b - H_b(0)| from ``total_angular_momentum``
-          and ``body_angular_momentum``.
-        - ``steps``, ``wall_time_s`` (s): from the metadata.
+        - ``max_tip_deflection_m`` (m): max |``tip_deflection``| (hinges carrying a deforming panel).
+        - ``peak_hinge_force_N``, ``peak_hinge_moment_Nm``: max |``hinge_force``|, |``hinge_moment``|.
 
-        A chain of hinges records ``lock_force`` and ``deployment_angle`` as (n, N) series, one
-        column per hinge: the four lock metrics are then lists with one value per hinge.
+        System: ``max_node_E_deflection_m`` (m, the paper's node E, when recorded),
+        ``body_attitude_change_deg`` (deg, |``body_attitude``[-1] - ``body_attitude``[0]|, free base),
+        ``momentum_drift`` (free base without a prescribed hinge: the total linear and angular
+        momentum's largest change relative to the momentum the bodies carry, metadata
+        ``momentum_scale``), ``steps`` and ``wall_time_s`` (s) from the metadata.
         """
         s = self._series
         t = s["t"]
-        force, angle = s.get("lock_force"), s.get("deployment_angle")
-        out: dict[str, Any] = dict.fromkeys(SUMMARY_KEYS)
-        if force is not None or angle is not None:
-            out["first_lock_time_s"] = _per_hinge(metrics.first_lock_time, t, force, angle)
-        if force is not None:
-            out["impacts"] = _per_hinge(metrics.impact_count, t, force)
-            out["peak_lock_force_N"] = _per_hinge(metrics.peak_lock_force, None, force)
-        if angle is not None:
-            out["settling_time_s"] = self._settling_time(t, angle, force)
+        H = self.num_hinges
+        view = H == 1 and s.get("deployment_angle", np.zeros((1, 2))).ndim == 1
+        infos = self._metadata.get("hinges")
+        if not (isinstance(infos, list) and len(infos) == H):
+            infos = [{} for _ in range(H)]
+
+        def column(name: str, k: int):
+            a = s.get(name)
+            if a is None:
+                return None
+            return a if view else a[:, k]
+
+        per: dict[str, list] = {key: [None] * H for key in HINGE_KEYS}
+        for k in range(H):
+            info = infos[k]
+            force, angle = column("lock_force", k), column("deployment_angle", k)
+            if force is not None and info.get("lock", True):
+                per["first_lock_time_s"][k] = metrics.first_contact_time(t, force)
+                per["impacts"][k] = metrics.impact_count(t, force)
+                per["peak_lock_force_N"][k] = metrics.peak_lock_force(force)
+                if angle is not None:
+                    per["settling_time_s"][k] = metrics.lock_settling_time(
+                        t, angle, force, angle_tol=_angle_band(info.get("lock_play_deg")))
+            tip = column("tip_deflection", k)
+            if tip is not None and info.get("fidelity") not in (None, "rigid"):
+                per["max_tip_deflection_m"][k] = metrics.max_abs(tip, "tip_deflection")
+            for key, name in (("peak_hinge_force_N", "hinge_force"), ("peak_hinge_moment_Nm", "hinge_moment")):
+                a = column(name, k)
+                if a is not None:
+                    per[key][k] = float(np.linalg.norm(a, axis=-1).max())
+        out: dict[str, Any] = {}
+        for key in HINGE_KEYS:
+            values = per[key]
+            if all(v is None for v in values):
+                continue
+            if view:
+                out[key] = values[0]
+            elif hinge is not None:
+                k = self._summary_hinge(hinge, H)
+                out[key] = values[k]
+            else:
+                out[key] = values
         if "node_E_deflection" in s:
-            out["max_node_E_deflection_m"] = metrics.max_abs(s["node_E_deflection"],
-                                                             "node_E_deflection")
-        if "body_attitude" in s:
+            out["max_node_E_deflection_m"] = metrics.max_abs(s["node_E_deflection"], "node_E_deflection")
+        free = self._metadata.get("base_free", True)
+        driven = any(isinstance(i, dict) and i.get("driven") for i in infos)
+        if free and "body_attitude" in s:
             out["body_attitude_change_deg"] = metrics.attitude_change(s["body_attitude"])
-        if "total_angular_momentum" in s and "body_angular_momentum" in s:
-            out["momentum_drift"] = metrics.momentum_drift(s["total_angular_momentum"],
-                                                           s["body_angular_momentum"])
-        out["steps"] = self._metadata.get("steps")
-        out["wall_time_s"] = self._metadata.get("wall_time_s")
+        if free and not driven and "total_angular_momentum" in s and "body_angular_momentum" in s:
+            drift = self._momentum_drift()
+            if drift is not None:
+                out["momentum_drift"] = drift
+        for key in ("steps", "wall_time_s"):
+            if self._metadata.get(key) is not None:
+                out[key] = self._metadata[key]
         return out
 
-    def _settling_time(self, t, angle, force):
-        """metrics.lock_settling_time per hinge, its angle band widened to the lock's play."""
-        play = self._metadata.get("lock_play_deg")
-        if angle.ndim == 1:
-            return metrics.lock_settling_time(t, angle, force, angle_tol=_angle_band(play))
-        plays = play if isinstance(play, (list, tuple)) else [play] * angle.shape[1]
-        return [metrics.lock_settling_time(t, angle[:, k], None if force is None else force[:, k],
-                                           angle_tol=_angle_band(plays[k]))
-                for k in range(angle.shape[1])]
+    def _momentum_drift(self) -> Optional[float]:
+        """The total momentum's largest change relative to the momentum the bodies carry
+        (metadata ``momentum_scale``: the peak of the sum of the bodies' |P| and |H|), the larger
+        of the linear and the angular; without that scale, relative to the angular momentum the
+        base exchanges (metrics.momentum_drift)."""
+        s = self._series
+        scale = self._metadata.get("momentum_scale")
+        if not isinstance(scale, dict):
+            return metrics.momentum_drift(s["total_angular_momentum"], s["body_angular_momentum"])
+        out = None
+        for name, key in (("total_linear_momentum", "P_N_s"), ("total_angular_momentum", "H_N_m_s")):
+            if name in s and scale.get(key):
+                a = s[name]
+                ratio = float(np.linalg.norm(a - a[0], axis=1).max()) / scale[key]
+                out = ratio if out is None else max(out, ratio)
+        return out
+
+    @staticmethod
+    def _summary_hinge(hinge, H: int) -> int:
+        if isinstance(hinge, bool) or not isinstance(hinge, (int, np.integer)):
+            raise TypeError(f"hinge must be a hinge index (int) or None, got {type(hinge).__name__}")
+        if not 0 <= hinge < H:
+            raise ValueError(f"hinge = {hinge} is out of range: must be in [0, {H - 1}]")
+        return int(hinge)
 
 
 #: deg: the settling band of a deployment angle (Result.summary), unless the lock's play is wider.
@@ -282,17 +384,6 @@ def load(path: PathLike) -> Result:
             raise ValueError(f"{path} is missing the series {missing}")
         series = {name: archive[_PREFIX + name] for name in header["series"]}
     return Result(series, header["units"], header["metadata"])
-
-
-def _per_hinge(metric, t, *series):
-    """``metric(t, *series)``, or for (n, N) series (a chain of hinges) the list of the metric of
-    each column; ``t`` None: the metric takes the series only. None series stay None."""
-    hinges = next((a.shape[1] for a in series if a is not None and a.ndim == 2), None)
-    args = () if t is None else (t,)
-    if hinges is None:
-        return metric(*args, *series)
-    return [metric(*args, *(a if a is None or a.ndim == 1 else a[:, k] for a in series))
-            for k in range(hinges)]
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:

@@ -16,13 +16,14 @@ from typing import Optional
 import numpy as np
 
 from . import paper2016 as _paper
-from ._run import base_attitude_deg
 from .contact import ContactLaw, Friction
 from .integrators import GeneralizedAlpha, SimulationError
 from .materials import Isotropic, Laminate, Ply
+from .model import Model
 from .plate import Plate, ShellModel
 from .results import Result
-from .scene import FIDELITIES, Model, Scene
+from .scene import Scene
+from .specs import Fidelity
 
 N_MM_PER_DEG = 1e-3 * 180.0 / np.pi  # 1 N mm/deg in N m/rad
 
@@ -32,9 +33,10 @@ def _Ry(angle: float) -> np.ndarray:
     return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
-def _transverse(model: Model, q: np.ndarray, nodes: list[int]) -> np.ndarray:
-    """Mean transverse displacement (m, E's z) of ``nodes`` from the recorded coordinates."""
-    return model.node_displacements(q)[:, nodes, 2].mean(axis=1)
+def _transverse(model: Model, q: np.ndarray, nodes: list[int], hinge: int = 0) -> np.ndarray:
+    """Mean transverse displacement (m, the panel frame's z) of ``nodes`` of hinge ``hinge``'s
+    panel from the recorded coordinates."""
+    return model.node_displacements(q, hinge, nodes)[:, :, 2].mean(axis=1)
 
 
 # --------------------------------------------------------------------------------------------
@@ -79,82 +81,70 @@ class Paper2016Parameters:
     #: Reduced models: clamped vibration modes in the Ritz basis (Scene.set_appendage).
     modes: int = 10
     derivative_modes: Optional[int] = None      #: None: min(modes, 6) (Scene.set_appendage)
+    #: 1: the paper's spacecraft; 2: a second, mirrored yoke and appendage on the opposite side of
+    #: the base (hinge at (-hinge_x, 0, 0)), deploying at the same time (hinge 1).
+    wings: int = 1
 
 
 class Paper2016Scene:
-    """The compiled scene; :meth:`simulate` returns the paper's series (issue 4)."""
+    """The compiled scene; :meth:`simulate` returns the paper's series (issue 4) in the one
+    vocabulary of :mod:`deployfx.results`, plus ``node_E_deflection`` and ``node_mid_deflection``
+    (m, (n,): hinge 0's panel, transverse, its frame's z)."""
 
     def __init__(self, p: Paper2016Parameters):
-        if p.model not in FIDELITIES:
-            raise ValueError(f"model = {p.model!r} is invalid: must be one of {', '.join(FIDELITIES)}")
+        fidelity = Fidelity.parse(p.model, "model")
+        if isinstance(p.wings, bool) or p.wings not in (1, 2):
+            raise ValueError(f"wings = {p.wings!r} is out of range: must be 1 or 2")
         self.parameters = p
         plate = _paper.appendage_plate(p.layup, p.nx, p.ny)
         nodes = plate.model.nodes.copy()
         nodes[:, 0] += p.root_offset        # root edge b_h from the hinge axis
         nodes[:, 1] -= _paper.WIDTH / 2     # centred on the hinge point
         shell = ShellModel(nodes, plate.model.quads, plate.laminate)
-        scene = (Scene()
-                 .set_base(p.body_mass, p.body_inertia, free=p.base_free)
-                 .add_rigid_part(p.yoke_mass, np.diag(p.yoke_inertia), (p.yoke_com_x, 0.0, 0.0))
-                 .set_hinge(point=(p.hinge_x, 0.0, 0.0), axis=(0.0, 1.0, 0.0), R_BE0=_Ry(-np.pi / 2),
-                            tau0=p.tau0, k_theta=p.k_theta, c_theta=p.c_theta,
-                            fitting_inertia=p.fitting_inertia)
-                 .set_appendage(shell, plate.fixed_dofs("CFFF"), p.model, damping=p.damping, modes=p.modes,
-                                derivative_modes=p.derivative_modes))
-        if p.lock:
-            scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, p.friction)
+        fixed = plate.fixed_dofs("CFFF")
+        scene = Scene().set_base(p.body_mass, p.body_inertia, free=p.base_free)
+        # Wing 1 along +x; wing 2 its mirror image through the base's y-z plane: the hinge axis -y
+        # and the panel frame's y flipped, so that both frames stay right-handed.
+        R_mirror = np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])
+        for wing, (sign, R_BE0) in enumerate([(1.0, _Ry(-np.pi / 2)), (-1.0, R_mirror)][:p.wings]):
+            scene.add_rigid_part(p.yoke_mass, np.diag(p.yoke_inertia), (sign * p.yoke_com_x, 0.0, 0.0))
+            scene.add_hinge("base", point=(sign * p.hinge_x, 0.0, 0.0), axis=(0.0, sign, 0.0), R_PE0=R_BE0,
+                            tau0=p.tau0, k_theta=p.k_theta, c_theta=p.c_theta, fitting_inertia=p.fitting_inertia,
+                            stowed_angle_deg=90.0)
+            scene.set_appendage(shell, fixed, fidelity=fidelity, damping=p.damping, modes=p.modes,
+                                derivative_modes=p.derivative_modes)
+            if p.lock:
+                scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, friction=p.friction)
         self.scene = scene  #: the :class:`Scene` before compile (e.g. for deployfx.save_scene)
-        self.model = scene.compile(description={"scene": "paper2016", "layup": p.layup,
-                                                "mesh": f"{p.nx}x{p.ny}"})
+        self.model = scene.compile(description={"scene": "paper2016", "layup": p.layup, "mesh": f"{p.nx}x{p.ny}",
+                                                "model": str(fidelity), "wings": p.wings})
         # Node E: the free-end corner (x = L, y = W); also the free end's mid-width node.
         self.node_E = p.ny * (p.nx + 1) + p.nx
         self.node_mid = (p.ny // 2) * (p.nx + 1) + p.nx
 
     def _series(self, model: Model, raw: dict) -> dict:
         q = raw["q"]
-        attitude = base_attitude_deg(q, model.base_free)
-        return {
-            "t": raw["t"],
-            "deployment_angle": 90.0 + np.degrees(raw["theta"]),
-            "deployment_rate": np.degrees(raw["theta_rate"]),
-            "spring_torque": raw["spring_torque"],
-            "lock_force": raw["lock_force"],
-            "node_E_deflection": _transverse(model, q, [self.node_E]),
-            "node_mid_deflection": _transverse(model, q, [self.node_mid]),
-            "body_attitude": attitude,
-            "body_angular_momentum": raw["base_angular_momentum"],
-            "total_angular_momentum": raw["angular_momentum"],
-            "total_linear_momentum": raw["linear_momentum"],
-            "body_linear_momentum": raw["base_linear_momentum"],
-            "kinetic_energy": raw["kinetic_energy"],
-            "potential_energy": raw["potential_energy"],
-            "node_displacements": model.node_displacements(q),
-            "q": q,
-        }
+        return {"node_E_deflection": _transverse(model, q, [self.node_E]),
+                "node_mid_deflection": _transverse(model, q, [self.node_mid])}
 
-    UNITS = {"q": "m, rad (base position, quaternion, hinge angle, elastic coordinates)",
-             "t": "s", "deployment_angle": "deg", "deployment_rate": "deg/s", "spring_torque": "N m",
-             "lock_force": "N", "node_E_deflection": "m", "node_mid_deflection": "m", "body_attitude": "deg",
-             "body_angular_momentum": "N m s", "total_angular_momentum": "N m s",
-             "total_linear_momentum": "N s", "body_linear_momentum": "N s", "kinetic_energy": "J", "potential_energy": "J",
-             "node_displacements": "m"}
+    UNITS = {"node_E_deflection": "m", "node_mid_deflection": "m"}
 
-    def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.8),
-                 tolerance: Optional[float] = None, progress: Optional[bool] = None) -> Result:
-        """Deployment from stowed (90 deg) at rest for ``t_end`` s with output step ``dt`` s.
-        Series: ``t`` (s), ``deployment_angle`` (deg, 90 stowed, 180 deployed), ``spring_torque``
-        (N m), ``lock_force`` (N), ``node_E_deflection`` and ``node_mid_deflection`` (m,
-        transverse, appendage frame), ``body_attitude`` (deg, rotation vector of the body),
-        ``body_angular_momentum``, ``total_angular_momentum`` (N m s, world axes about the
-        initial centre of mass), energies (J), ``node_displacements`` (m, (n, nodes, 3), in the
-        appendage frame). ``tolerance``, ``progress``: see :meth:`Model.simulate`."""
-        return self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS,
-                                   tolerance=tolerance, progress=progress)
+    def simulate(self, t_end: float = 30.0, dt: float = 0.01, *, scheme=GeneralizedAlpha(0.8),
+                 tolerance: Optional[float] = None, progress: Optional[bool] = None, **options) -> Result:
+        """Deployment from stowed (90 deg) at rest for ``t_end`` s with output step ``dt`` s: the
+        series of :mod:`deployfx.results` (``deployment_angle`` 90 stowed, 180 deployed, per hinge)
+        and ``node_E_deflection``, ``node_mid_deflection`` (m). ``scheme``, ``tolerance``,
+        ``progress`` and further ``options`` (``nodes``, ``stop``, ``q0``, ...): see
+        :meth:`deployfx.Model.simulate`."""
+        return self.model.simulate(t_end, dt, scheme=scheme, series=self._series, units=self.UNITS,
+                                   tolerance=tolerance, progress=progress, **options)
 
 
 def paper2016(layup: int = 2, model: str = "nonlinear", **overrides) -> Paper2016Scene:
-    """You et al. (2016): lay-up 1 ([0/0/0/0]) or 2 ([0/90/90/0]); model "rigid", "linear",
-    "nonlinear", "reduced-linear" or "reduced-nonlinear" (with ``modes=k``); any field of :class:`Paper2016Parameters` may be overridden by keyword."""
+    """You et al. (2016): lay-up 1 ([0/0/0/0]) or 2 ([0/90/90/0]); model (a
+    :class:`~deployfx.specs.Fidelity`) "rigid", "linear", "nonlinear", "reduced-linear" or
+    "reduced-nonlinear" (with ``modes=k``); ``wings=2`` adds the mirrored second wing; any field
+    of :class:`Paper2016Parameters` may be overridden by keyword."""
     names = {f.name for f in dataclasses.fields(Paper2016Parameters)}
     unknown = sorted(set(overrides) - names)
     if unknown:
@@ -182,7 +172,9 @@ def spin_up_strip(nx: int = 20, width: float = 0.2) -> Plate:
 
 
 class SpinUpBeamScene:
-    """The compiled spin-up beam; :meth:`simulate` returns ``t`` and ``tip_deflection``."""
+    """The compiled spin-up beam; :meth:`simulate` returns the series of :mod:`deployfx.results`:
+    ``tip_deflection`` ((n, 1), m: the tip's deflection in the plane of rotation, positive in the
+    direction of rotation as in Kane et al.) and ``deployment_angle`` (deg, the hub angle)."""
 
     def __init__(self, omega_s: float, t_s: float, model: str, nx: int):
         strip = spin_up_strip(nx)
@@ -193,28 +185,24 @@ class SpinUpBeamScene:
         self.model = (Scene()
                       .set_base(1.0, 1.0, free=False)
                       .set_hinge(point=(0.0, 0.0, 0.0), axis=(0.0, 1.0, 0.0), spin_up=(omega_s, t_s))
-                      .set_appendage(strip.model, strip.fixed_dofs("CFFF"), model)
+                      .set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity=model)
                       .compile(description={"scene": "spin_up_beam", "omega_s": omega_s, "t_s": t_s,
-                                            "mesh": f"{nx}x1"}))
-        self.tip_nodes = [nx, 2 * nx + 1]  # (x = L, y = 0) and (x = L, y = b)
+                                            "mesh": f"{nx}x1", "model": model}))
 
-    def simulate(self, t_end: float = 30.0, dt: float = 0.01, scheme=GeneralizedAlpha(0.9),
+    def simulate(self, t_end: float = 30.0, dt: float = 0.01, *, scheme=GeneralizedAlpha(0.9),
                  divergence_limit: Optional[float] = None, tolerance: Optional[float] = None) -> Result:
-        """Spin-up from rest. Series ``t`` (s), ``tip_deflection`` (m, transverse to the beam in
-        the rotating frame, in the plane of rotation, positive in the direction of rotation as in
-        Kane et al.: the tip lags, so it is negative during spin-up), ``hub_angle`` (rad).
-        A run whose tip leaves ``divergence_limit`` (m, default L/2: far beyond small-strain
-        validity) is divergent: :class:`~deployfx.integrators.SimulationError` says when, with
-        the series up to then in ``.result`` (the linear model above omega_1 = 3.80 rad/s)."""
+        """Spin-up from rest. A run whose tip leaves ``divergence_limit`` (m, default L/2: far
+        beyond small-strain validity) is divergent: :class:`~deployfx.integrators.SimulationError`
+        says when, with the series up to then in ``.result`` (the linear model above
+        omega_1 = 3.80 rad/s)."""
         limit = 0.5 * self.length if divergence_limit is None else float(divergence_limit)
         try:
-            result = self.model.simulate(t_end, dt, scheme, series=self._series, units=self.UNITS,
-                                         tolerance=tolerance)
+            result = self.model.simulate(t_end, dt, scheme=scheme, tolerance=tolerance)
         except SimulationError as e:
             result, failure = e.result, str(e)
         else:
             failure = ""
-        tip = result.tip_deflection
+        tip = result.tip_deflection[:, 0]
         out = np.flatnonzero(np.abs(tip) > limit)
         if out.size:
             k = int(out[0])
@@ -222,21 +210,14 @@ class SpinUpBeamScene:
             kept = {name: result[name][: k + 1] for name in result.series}
             meta = result.metadata
             meta["failure"] = (f"diverged: |tip deflection| = {abs(tip[k]):.3g} m > {limit:g} m at "
-                               f"t = {t_div:.4g} s (model {self.model.fidelity})")
+                               f"t = {t_div:.4g} s (model {self.model.fidelities[0]})")
             partial = Result(kept, units=result.units, metadata=meta)
             raise SimulationError(meta["failure"] + ("; the linear model softens as K - Omega^2 M and "
                                   "diverges above the first bending frequency, 3.80 rad/s"
-                                  if self.model.fidelity == "linear" else ""), partial)
+                                  if self.model.fidelities[0] == "linear" else ""), partial)
         if failure:
             raise SimulationError(failure, result)
         return result
-
-    UNITS = {"t": "s", "tip_deflection": "m", "hub_angle": "rad", "hub_rate": "rad/s"}
-
-    def _series(self, model: Model, raw: dict) -> dict:
-        # Rotation about +y turns E's x axis towards -z: the direction of motion is -z.
-        return {"t": raw["t"], "tip_deflection": -_transverse(model, raw["q"], self.tip_nodes),
-                "hub_angle": raw["theta"], "hub_rate": raw["theta_rate"]}
 
 
 def spin_up_beam(omega_s: float, t_s: float = 15.0, model: str = "nonlinear", nx: int = 20) -> SpinUpBeamScene:

@@ -267,7 +267,7 @@ def _run(case: Case, t_end: float, layup: int, repeat: int,
     result, walls, failure = None, [], ""
     for _ in range(repeat):
         try:
-            r = scene.simulate(t_end, case.dt, case.scheme, tolerance=case.tolerance,
+            r = scene.simulate(t_end, case.dt, scheme=case.scheme, tolerance=case.tolerance,
                                progress=False)
         except SimulationError as e:
             r, failure = e.result, str(e)
@@ -284,7 +284,7 @@ class _Reference:
     def __init__(self, result: Result, t_end: float):
         keep = result.t <= t_end * (1 + 1e-12)
         self.t = np.asarray(result.t[keep])
-        self.force = np.asarray(result.lock_force[keep])
+        self.force = np.asarray(result.lock_force[keep]).reshape(int(keep.sum()), -1)[:, 0]
         self.deflection = np.asarray(result.node_E_deflection[keep])
         self.t_end = t_end
         self.lock_time = _lock_time(self.t, self.force)
@@ -335,7 +335,7 @@ def _row(case: Optional[Case], result: Optional[Result], setup: float, wall: flo
         return row
     t = np.asarray(result.t)
     keep = t <= ref.t_end * (1 + 1e-12)
-    t, force = t[keep], np.asarray(result.lock_force[keep])
+    t, force = t[keep], np.asarray(result.lock_force[keep]).reshape(int(keep.sum()), -1)[:, 0]
     deflection = np.asarray(result.node_E_deflection[keep])
     row["t_reached_s"] = float(t[-1])
     lock = _lock_time(t, force)
@@ -356,8 +356,9 @@ def _row(case: Optional[Case], result: Optional[Result], setup: float, wall: flo
 
 def _coordinates(case: Optional[Case], meta: dict) -> Optional[int]:
     # Elastic coordinates: the basis size (reduced), the free dofs (full), 0 (rigid).
-    if meta.get("basis_size") is not None:
-        return int(meta["basis_size"])
+    hinges = meta.get("hinges") or [{}]
+    if hinges[0].get("basis_size") is not None:
+        return int(hinges[0]["basis_size"])
     model = meta.get("model")
     if model == "rigid":
         return 0

@@ -60,6 +60,9 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     align_Mij();
   } else if (flexible()) {
     free_ = fem::free_dofs(model.num_dofs(), spec_.fixed_dofs);
+    if (free_.empty())
+      throw std::invalid_argument(name + ".fixed_dofs clamps every dof of the mesh: a flexible panel needs free "
+                                  "dofs (use the fidelity 'rigid' for a panel that does not deform)");
     K_free_ = fem::restrict(model.stiffness(), free_);
     M_free_ = fem::restrict(ffi_.M(), free_);
     // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
@@ -117,14 +120,14 @@ Eigen::MatrixXd FlexibleBody::mesh_rows(const std::vector<int>& mesh_dofs) const
 
 void FlexibleBody::add_elastic_force(const Eigen::VectorXd& q_el, const Eigen::VectorXd& v_el,
                                      const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
-                                     Eigen::Ref<Eigen::VectorXd> r) const {
+                                     Eigen::Ref<Eigen::VectorXd> r, Workspace* ws) const {
   const int n = num_elastic();
   if (n == 0) return;
   if (modal_ && green_) {
     // Reduced Green strain: the polynomial force and, for damping, its exact tangent.
     Eigen::VectorXd f;
     Eigen::MatrixXd T;
-    modal_->evaluate(q_el, &f, spec_.beta_K > 0 ? &T : nullptr);
+    modal_->evaluate(q_el, &f, spec_.beta_K > 0 ? &T : nullptr, ws ? &ws->modal : nullptr);
     r += f + spec_.alpha_M * (M_free_ * v_el);
     if (spec_.beta_K > 0) r += spec_.beta_K * (T * v_el);
     return;
@@ -154,10 +157,11 @@ void FlexibleBody::add_elastic_force(const Eigen::VectorXd& q_el, const Eigen::V
   }
 }
 
-void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::VectorXd& vals) const {
+void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::VectorXd& vals,
+                                     Workspace* ws) const {
   if (modal_ && green_) {
     Eigen::MatrixXd T;  // dense, column-major: the block's value order
-    modal_->evaluate(d, nullptr, &T);
+    modal_->evaluate(d, nullptr, &T, ws ? &ws->modal : nullptr);
     vals += (c_q + c_v * spec_.beta_K) * Eigen::Map<const Eigen::VectorXd>(T.data(), T.size());
   } else if (spec_.fidelity == Fidelity::kNonlinear) {
     // K_L + K_L* + K_s (Eq. 19, 22, 23) and the damping beta_K K_T (its d-derivative dropped).
@@ -174,9 +178,9 @@ Eigen::MatrixXd FlexibleBody::elastic_tangent(const Eigen::VectorXd& q_el, doubl
   return Eigen::MatrixXd(block_->with_values(vals));
 }
 
-double FlexibleBody::strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d) const {
+double FlexibleBody::strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d, const Workspace* ws) const {
   if (num_elastic() == 0) return 0.0;
-  return modal_ && green_ ? modal_->strain_energy(q_el)
+  return modal_ && green_ ? modal_->strain_energy(q_el, ws ? &ws->modal : nullptr)
          : green_         ? spec_.model->strain_energy(d)
                           : 0.5 * q_el.dot(K_free_ * q_el);
 }

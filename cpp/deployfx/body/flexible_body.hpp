@@ -3,8 +3,8 @@
 // the shape integrals (FloatingFrameInertia, You et al. 2016 Eq. 9 and 28), for the reduced
 // fidelities the Ritz basis (fem/ritz_basis.hpp) with the integrals projected on it and the
 // exact modal internal force (fem/modal_internal_force.hpp), the stiffness and mass on the
-// elastic coordinates, and Rayleigh damping. Shared by the systems that carry flexible bodies
-// (system/hinged_system: one hinge; system/hinge_chain: a chain of hinges). Immutable.
+// elastic coordinates, and Rayleigh damping. Part of the immutable multibody::Model; what a run
+// remembers of it (the memos of its last evaluations) is a Workspace in the run's Data.
 //
 // Elastic coordinates: the free mesh dofs d (full fidelities) or the Ritz coordinates eta,
 // d = Phi eta (reduced). inertia() works on "its dofs": all mesh dofs for a full model (full()
@@ -55,6 +55,14 @@ struct AppendageSpec {
 
 class FlexibleBody {
  public:
+  /// What one run keeps of this body's evaluations: the memos of the floating-frame products and
+  /// of the reduced Green-strain polynomial (multibody::Data holds one per panel). Optional
+  /// everywhere (null: compute afresh).
+  struct Workspace {
+    FloatingFrameInertia::ProductsMemo products;
+    fem::ModalInternalForce::Memo modal;
+  };
+
   /// Checks the spec (std::invalid_argument naming `<name>.model`, `<name>.alpha_M`,
   /// `<name>.beta_K`, `<name>.modes`, `<name>.derivative_modes`) and compiles it.
   /// `extra_loads` (mesh dofs x m, may have no columns): further load shapes whose static
@@ -85,14 +93,15 @@ class FlexibleBody {
   /// Adds the elastic force (header) on the elastic coordinates q_el at rates v_el to r
   /// (size num_elastic()); d and dd are full(q_el) and full(v_el).
   void add_elastic_force(const Eigen::VectorXd& q_el, const Eigen::VectorXd& v_el, const Eigen::VectorXd& d,
-                         const Eigen::VectorXd& dd, Eigen::Ref<Eigen::VectorXd> r) const;
+                         const Eigen::VectorXd& dd, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws = nullptr) const;
   /// Adds c_q d/dq + c_v d/dv of the elastic force at d = full(q_el) to values aligned with
   /// block() (the d-derivative of the damping beta_K K_T(d) d' dropped).
-  void add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::VectorXd& vals) const;
+  void add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::VectorXd& vals,
+                         Workspace* ws = nullptr) const;
   /// The same as a dense (num_elastic() x num_elastic()) matrix.
   Eigen::MatrixXd elastic_tangent(const Eigen::VectorXd& q_el, double c_v, double c_q) const;
   /// Strain energy at q_el (d = full(q_el)), J.
-  double strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d) const;
+  double strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d, const Workspace* ws = nullptr) const;
 
   /// The elastic block of a Newton matrix on the mesh's node-block pattern (a dense pattern for a
   /// reduced model), with L_c, K_L and the nine M_ij aligned to it: a combination of them is a

@@ -97,19 +97,18 @@ FloatingFrameInertia::SparseMatrix FloatingFrameInertia::Mij(int i, int j) const
   return Mij_[3 * i + j];
 }
 
-FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::VectorXd& z) const {
+FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::VectorXd& z, ProductsMemo* memo) const {
   check(z, "z");
-  {
-    const std::lock_guard<std::mutex> lock(memo_.mutex);
-    for (int s = 0; s < kMemoSlots; ++s)
-      if (memo_.z[s].size() == z.size() && memo_.z[s] == z) return memo_.products[s];
-  }
+  if (memo)
+    for (int s = 0; s < ProductsMemo::kSlots; ++s)
+      if (memo->z[s].size() == z.size() && memo->z[s] == z) return memo->products[s];
   Products P;
   P.p_ = std::make_shared<const std::array<Eigen::VectorXd, 9>>(compute_products(z));
-  const std::lock_guard<std::mutex> lock(memo_.mutex);
-  memo_.z[memo_.next] = z;
-  memo_.products[memo_.next] = P;
-  memo_.next = (memo_.next + 1) % kMemoSlots;
+  if (memo) {
+    memo->z[memo->next] = z;
+    memo->products[memo->next] = P;
+    memo->next = (memo->next + 1) % ProductsMemo::kSlots;
+  }
   return P;
 }
 
@@ -161,8 +160,8 @@ Eigen::Vector3d FloatingFrameInertia::first_moment(const Eigen::VectorXd& d) con
   return S0_ + S1_ * d;
 }
 
-Eigen::Matrix3d FloatingFrameInertia::inertia_tensor(const Eigen::VectorXd& d) const {
-  return inertia_tensor(d, products(d));
+Eigen::Matrix3d FloatingFrameInertia::inertia_tensor(const Eigen::VectorXd& d, ProductsMemo* memo) const {
+  return inertia_tensor(d, products(d, memo));
 }
 
 Eigen::Matrix3d FloatingFrameInertia::inertia_tensor(const Eigen::VectorXd& d, const Products& Pd) const {
@@ -175,8 +174,9 @@ Eigen::Matrix3d FloatingFrameInertia::inertia_tensor(const Eigen::VectorXd& d, c
   return E.trace() * Eigen::Matrix3d::Identity() - E;
 }
 
-FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Eigen::VectorXd& d) const {
-  return rotation_coupling(products(d));
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Eigen::VectorXd& d,
+                                                                       ProductsMemo* memo) const {
+  return rotation_coupling(products(d, memo));
 }
 
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Products& Pd) const {
@@ -191,21 +191,22 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Pro
 }
 
 double FloatingFrameInertia::kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
-                                            const Eigen::VectorXd& d, const Eigen::VectorXd& dd) const {
+                                            const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
+                                            ProductsMemo* memo) const {
   check(dd, "dd");
-  const Products Pd = products(d);
+  const Products Pd = products(d, memo);
   return 0.5 * m_ * V.dot(V) + V.dot(w.cross(first_moment(d))) + V.dot(S1_ * dd) +
          0.5 * w.dot(inertia_tensor(d, Pd) * w) + w.dot(rotation_coupling(Pd) * dd) + 0.5 * dd.dot(M_ * dd);
 }
 
-Eigen::Matrix3d FloatingFrameInertia::inertia_tensor_rate(const Eigen::VectorXd& d,
-                                                          const Eigen::VectorXd& dd) const {
+Eigen::Matrix3d FloatingFrameInertia::inertia_tensor_rate(const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
+                                                          ProductsMemo* memo) const {
   check(d, "d");
   check(dd, "dd");
   // Edot = c(dd) + c(dd)^T + int rho (u'_i u_j + u_i u'_j).
   Eigen::Matrix3d Edot;
   const Eigen::Matrix<double, 9, 1> c = C_ * dd;
-  const Products Pd = products(d), Pdd = products(dd);
+  const Products Pd = products(d, memo), Pdd = products(dd, memo);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       Edot(i, j) = c(3 * i + j) + c(3 * j + i) + dd.dot(Pd[3 * i + j]) + d.dot(Pdd[3 * i + j]);
@@ -268,20 +269,23 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling_jacobian(
 }
 
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_tensor_jacobian(const Eigen::VectorXd& d,
-                                                                             const Eigen::Vector3d& x) const {
+                                                                             const Eigen::Vector3d& x,
+                                                                             ProductsMemo* memo) const {
   check(d, "d");
-  return contract_inertia(products(d), true, x);
+  return contract_inertia(products(d, memo), true, x);
 }
 
 FloatingFrameInertia::Matrix3X FloatingFrameInertia::inertia_rate_jacobian(const Eigen::VectorXd& dd,
-                                                                           const Eigen::Vector3d& x) const {
+                                                                           const Eigen::Vector3d& x,
+                                                                           ProductsMemo* memo) const {
   check(dd, "dd");
-  return contract_inertia(products(dd), false, x);
+  return contract_inertia(products(dd, memo), false, x);
 }
 
-FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling_jacobian(const Eigen::VectorXd& y) const {
+FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling_jacobian(const Eigen::VectorXd& y,
+                                                                                ProductsMemo* memo) const {
   check(y, "y");
-  return rotation_coupling_jacobian(products(y));
+  return rotation_coupling_jacobian(products(y, memo));
 }
 
 FloatingFrameInertia::StateIntegrals FloatingFrameInertia::state_integrals(
@@ -325,24 +329,24 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::forces(
 
 FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
     const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
-    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {
+    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd, ProductsMemo* memo) const {
   check(d, "d");
   check(dd, "dd");
   check(ddd, "ddd");
   // Every d-dependent integral is built from the 18 products M_ij d and M_ij dd, formed once
   // (M_ij^T = M_ji).
-  const Products Pd = products(d), Pdd = products(dd);
+  const Products Pd = products(d, memo), Pdd = products(dd, memo);
   return forces(state_integrals(w, d, dd, Pd, Pdd), a, al, w, dd, ddd);
 }
 
 FloatingFrameInertia::ForceJacobians FloatingFrameInertia::inertial_force_jacobians(
     const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
-    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {
+    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd, ProductsMemo* memo) const {
   check(d, "d");
   check(dd, "dd");
   check(ddd, "ddd");
   const int n = num_dofs();
-  const Products Pd = products(d), Pdd = products(dd), Pddd = products(ddd);
+  const Products Pd = products(d, memo), Pdd = products(dd, memo), Pddd = products(ddd, memo);
   const StateIntegrals g = state_integrals(w, d, dd, Pd, Pdd);
   ForceJacobians out;
   out.f = forces(g, a, al, w, dd, ddd);

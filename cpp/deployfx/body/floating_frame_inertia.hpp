@@ -15,7 +15,6 @@
 #include <Eigen/SparseCore>
 #include <array>
 #include <memory>
-#include <mutex>
 
 #include "deployfx/fem/shell_model.hpp"
 
@@ -45,10 +44,7 @@ class FloatingFrameInertia {
   const SparseMatrix& M() const { return M_; }              ///< L_c: the element mass matrix
 
   /// The products M_ij z (index k = 3 i + j) that every d-dependent integral below is built
-  /// from: the cost of those integrals. Immutable and shared: products() keeps the last few it
-  /// formed and hands the same arrays out again for the same z, so the integrals at one d share
-  /// one set (a Newton iteration asks for them at one d in its residual, momentum, matrix and
-  /// momentum Jacobian).
+  /// from: the cost of those integrals. Immutable and shared.
   class Products {
    public:
     Products() = default;
@@ -58,19 +54,33 @@ class FloatingFrameInertia {
     friend class FloatingFrameInertia;
     std::shared_ptr<const std::array<Eigen::VectorXd, 9>> p_;
   };
-  Products products(const Eigen::VectorXd& z) const;
+  /// A run's memo of products(): the last few (z, M_ij z) it formed, handed out again for the
+  /// same z, so the integrals at one d share one set (a Newton iteration asks for them at one d in
+  /// its residual, momentum, matrix and momentum Jacobian). Per-run data (multibody::Data), never
+  /// shared between runs: the model stays immutable and runs on it independent.
+  class ProductsMemo {
+   private:
+    friend class FloatingFrameInertia;
+    static constexpr int kSlots = 4;
+    std::array<Eigen::VectorXd, kSlots> z;
+    std::array<Products, kSlots> products;
+    int next = 0;
+  };
+  /// M_ij z; from `memo` if it holds z (and recorded there otherwise); memo may be null.
+  Products products(const Eigen::VectorXd& z, ProductsMemo* memo = nullptr) const;
 
   /// s(d) = S0 + S1 d, the first moment of the deformed body, kg m.
   Eigen::Vector3d first_moment(const Eigen::VectorXd& d) const;
   /// J(d) about E's origin, kg m^2.
-  Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d) const;
+  Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d, ProductsMemo* memo = nullptr) const;
   /// H(d) = int rho (P + u)~ N, the rotation-elastic coupling (H_A and kin), (3 x ndof).
-  Matrix3X rotation_coupling(const Eigen::VectorXd& d) const;
+  Matrix3X rotation_coupling(const Eigen::VectorXd& d, ProductsMemo* memo = nullptr) const;
   /// Kinetic energy for frame velocity V, angular velocity w (E axes), d and its rate dd, J.
-  double kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
-                        const Eigen::VectorXd& d, const Eigen::VectorXd& dd) const;
+  double kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w, const Eigen::VectorXd& d,
+                        const Eigen::VectorXd& dd, ProductsMemo* memo = nullptr) const;
   /// dJ/dt for the rate dd, kg m^2/s.
-  Eigen::Matrix3d inertia_tensor_rate(const Eigen::VectorXd& d, const Eigen::VectorXd& dd) const;
+  Eigen::Matrix3d inertia_tensor_rate(const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
+                                      ProductsMemo* memo = nullptr) const;
   /// Centrifugal load on d of the undeformed body, int rho N^T (w x (w x P)), N.
   Eigen::VectorXd centrifugal_load(const Eigen::Vector3d& w) const;
   /// Its elastic part: int rho N^T (w x (w x u)) = G_w d; G_w = sum w_i w_j M_ij - |w|^2 sum M_ii
@@ -80,11 +90,13 @@ class FloatingFrameInertia {
   SparseMatrix gyroscopic(const Eigen::Vector3d& w) const;
 
   /// d(J(d) x)/dd for a fixed vector x, (3 x ndof). Also J'(d, dd) x = this(d, x) dd.
-  Matrix3X inertia_tensor_jacobian(const Eigen::VectorXd& d, const Eigen::Vector3d& x) const;
+  Matrix3X inertia_tensor_jacobian(const Eigen::VectorXd& d, const Eigen::Vector3d& x,
+                                   ProductsMemo* memo = nullptr) const;
   /// d(J'(d, dd) x)/dd for fixed dd and x, (3 x ndof).
-  Matrix3X inertia_rate_jacobian(const Eigen::VectorXd& dd, const Eigen::Vector3d& x) const;
+  Matrix3X inertia_rate_jacobian(const Eigen::VectorXd& dd, const Eigen::Vector3d& x,
+                                 ProductsMemo* memo = nullptr) const;
   /// d(H(d) y)/dd for a fixed y (independent of d), (3 x ndof).
-  Matrix3X rotation_coupling_jacobian(const Eigen::VectorXd& y) const;
+  Matrix3X rotation_coupling_jacobian(const Eigen::VectorXd& y, ProductsMemo* memo = nullptr) const;
 
   /// The inertial forces of the body, int rho A dV, int rho r x A dV about E's origin and
   /// int rho N^T A dV, for the point acceleration A = a + al x r + w x (w x r) + 2 w x u' + u''
@@ -96,7 +108,8 @@ class FloatingFrameInertia {
   };
   InertialForces inertial_forces(const Eigen::Vector3d& a, const Eigen::Vector3d& al,
                                  const Eigen::Vector3d& w, const Eigen::VectorXd& d,
-                                 const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const;
+                                 const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd,
+                                 ProductsMemo* memo = nullptr) const;
 
   /// The inertial forces with their first derivatives, analytic (docs/engine-design.md,
   /// "Body-level equations"), from one set of the 27 products M_ij d, M_ij dd, M_ij dd'' (M_ij^T
@@ -114,7 +127,8 @@ class FloatingFrameInertia {
   };
   ForceJacobians inertial_force_jacobians(const Eigen::Vector3d& a, const Eigen::Vector3d& al,
                                           const Eigen::Vector3d& w, const Eigen::VectorXd& d,
-                                          const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const;
+                                          const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd,
+                                          ProductsMemo* memo = nullptr) const;
 
  private:
   FloatingFrameInertia() = default;
@@ -154,19 +168,6 @@ class FloatingFrameInertia {
   bool dense_ = false;
   SparseMatrix M_;
   std::array<Eigen::VectorXd, 9> compute_products(const Eigen::VectorXd& z) const;
-  // The memo of products(): the last kMemoSlots (z, M_ij z), replaced in turn, shared by threads
-  // under its lock. A copy starts empty.
-  static constexpr int kMemoSlots = 4;
-  struct Memo {
-    Memo() = default;
-    Memo(const Memo&) {}
-    Memo& operator=(const Memo&) { return *this; }
-    std::mutex mutex;
-    std::array<Eigen::VectorXd, kMemoSlots> z;
-    std::array<Products, kMemoSlots> products;
-    int next = 0;
-  };
-  mutable Memo memo_;
 };
 
 }  // namespace deployfx::body

@@ -107,12 +107,11 @@ std::vector<int> ModalInternalForce::quartic_blocks() const {
   return sizes;
 }
 
-void ModalInternalForce::polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A,
-                                    Eigen::MatrixXd* B) const {
-  const std::lock_guard<std::mutex> lock(memo_.mutex);
-  if (memo_.eta.size() == eta.size() && memo_.eta == eta) {
-    *A = memo_.A;
-    *B = memo_.B;
+void ModalInternalForce::polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A, Eigen::MatrixXd* B,
+                                    Memo* memo) const {
+  if (memo && memo->eta.size() == eta.size() && memo->eta == eta) {
+    *A = memo->A;
+    *B = memo->B;
     return;
   }
   const int r = size();
@@ -137,12 +136,15 @@ void ModalInternalForce::polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd*
     (*A)(i, j) = (*A)(j, i) = a(s);
     (*B)(i, j) = (*B)(j, i) = b(s);
   }
-  memo_.eta = eta;
-  memo_.A = *A;
-  memo_.B = *B;
+  if (memo) {
+    memo->eta = eta;
+    memo->A = *A;
+    memo->B = *B;
+  }
 }
 
-void ModalInternalForce::evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f, Eigen::MatrixXd* T) const {
+void ModalInternalForce::evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f, Eigen::MatrixXd* T,
+                                  Memo* memo) const {
   if (eta.size() != size())
     throw std::invalid_argument("eta has wrong size: expected " + std::to_string(size()) + ", got " +
                                 std::to_string(eta.size()));
@@ -152,16 +154,16 @@ void ModalInternalForce::evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f
     return;
   }
   Eigen::MatrixXd A, B;
-  polynomial(eta, &A, &B);
+  polynomial(eta, &A, &B, memo);
   if (f) *f = K_ * eta + (0.5 * A + B / 6.0) * eta;
   if (T) *T = K_ + A + 0.5 * B;
 }
 
-double ModalInternalForce::strain_energy(const Eigen::VectorXd& eta) const {
+double ModalInternalForce::strain_energy(const Eigen::VectorXd& eta, const Memo* memo) const {
   if (eta.size() != size())
     throw std::invalid_argument("eta has wrong size: expected " + std::to_string(size()));
   if (!green_) return 0.5 * eta.dot(K_ * eta);
-  {
+  if (memo) {
     // Within kTaylorReach of the memo's eta_m in the energy norm (a converged Newton step's
     // state against its last iterate), the energy's Taylor series about eta_m to second order,
     // from the memo's A, B: U_m + f_m.delta + delta^T T_m delta / 2. The terms dropped, the
@@ -172,20 +174,19 @@ double ModalInternalForce::strain_energy(const Eigen::VectorXd& eta) const {
     // coordinate moves little in it, where the largest coordinate is no measure. (After the
     // paper's lock, U is 1/50000 of eta^T K eta / 2, the in-plane coordinates cancelling the
     // membrane strain: either way U carries that round-off, 1e-10 J of 4 J.)
-    const std::lock_guard<std::mutex> lock(memo_.mutex);
-    const Eigen::VectorXd& m = memo_.eta;
+    const Eigen::VectorXd& m = memo->eta;
     const Eigen::VectorXd delta =
         m.size() == eta.size() ? Eigen::VectorXd(eta - m) : Eigen::VectorXd();
     if (delta.size() && delta.dot(K_ * delta) <= kTaylorReach * kTaylorReach * m.dot(K_ * m)) {
-      const Eigen::VectorXd Am = memo_.A * m, Bm = memo_.B * m;
+      const Eigen::VectorXd Am = memo->A * m, Bm = memo->B * m;
       const double U_m = 0.5 * m.dot(K_ * m) + m.dot(Am) / 6.0 + m.dot(Bm) / 24.0;
       const Eigen::VectorXd f_m = K_ * m + 0.5 * Am + Bm / 6.0;
-      const Eigen::VectorXd T_delta = K_ * delta + memo_.A * delta + 0.5 * (memo_.B * delta);
+      const Eigen::VectorXd T_delta = K_ * delta + memo->A * delta + 0.5 * (memo->B * delta);
       return U_m + f_m.dot(delta) + 0.5 * delta.dot(T_delta);
     }
   }
   Eigen::MatrixXd A, B;
-  polynomial(eta, &A, &B);
+  polynomial(eta, &A, &B, nullptr);
   return 0.5 * eta.dot(K_ * eta) + eta.dot(A * eta) / 6.0 + eta.dot(B * eta) / 24.0;
 }
 

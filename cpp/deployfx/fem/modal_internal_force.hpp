@@ -10,7 +10,6 @@
 // their Gauss points (ShellElement::green_operators; the derivation is in the .cpp), in one pass
 // over the mesh. Linear strain keeps K only.
 #include <Eigen/Core>
-#include <mutex>
 #include <utility>
 #include <vector>
 
@@ -30,18 +29,23 @@ class ModalInternalForce {
   std::vector<int> quartic_blocks() const;
   /// K = Phi^T K_L Phi, (r x r).
   const Eigen::MatrixXd& linear_stiffness() const { return K_; }
-  /// f(eta) and/or T(eta) (either may be null).
-  void evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f, Eigen::MatrixXd* T) const;
-  /// U(eta), J. Near the last eta that f or T were evaluated at (within kTaylorReach of it,
-  /// relative, in the energy norm of K), from that evaluation by Taylor's series, exact to
-  /// round-off.
-  double strain_energy(const Eigen::VectorXd& eta) const;
+  /// A run's memo of the polynomial's last evaluation, A(eta) and B(eta) (Newton evaluates the
+  /// residual and then, for a fresh matrix, the tangent at the same eta: one product, not two).
+  /// Per-run data (multibody::Data): the model stays immutable, runs on it independent.
+  struct Memo {
+    Eigen::VectorXd eta;
+    Eigen::MatrixXd A, B;
+  };
+  /// f(eta) and/or T(eta) (either may be null); `memo` (may be null) is read and updated.
+  void evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f, Eigen::MatrixXd* T, Memo* memo = nullptr) const;
+  /// U(eta), J. Near the eta of the memo's last evaluation (within kTaylorReach of it, relative,
+  /// in the energy norm of K), from that evaluation by Taylor's series, exact to round-off.
+  double strain_energy(const Eigen::VectorXd& eta, const Memo* memo = nullptr) const;
   static constexpr double kTaylorReach = 1e-8;
 
  private:
-  // A(eta) and B(eta) as (r x r) matrices; the last eta's are kept (Newton evaluates the
-  // residual and then, for a fresh matrix, the tangent at the same eta: one product, not two).
-  void polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A, Eigen::MatrixXd* B) const;
+  // A(eta) and B(eta) as (r x r) matrices, from the memo if it holds eta (recorded there otherwise).
+  void polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A, Eigen::MatrixXd* B, Memo* memo) const;
   bool green_ = false;
   Eigen::MatrixXd K_;
   // The coefficients on the pairs i <= j (every A_k and B_kl is symmetric, as T is), packed in
@@ -55,17 +59,6 @@ class ModalInternalForce {
   std::vector<std::pair<int, int>> slots_;
   Eigen::MatrixXd A_;
   std::vector<Eigen::MatrixXd> B_blocks_;
-  // The memo of polynomial(): a pure function's last value, shared by threads under its lock.
-  // A copy starts empty.
-  struct Memo {
-    Memo() = default;
-    Memo(const Memo&) {}
-    Memo& operator=(const Memo&) { return *this; }
-    std::mutex mutex;
-    Eigen::VectorXd eta;
-    Eigen::MatrixXd A, B;
-  };
-  mutable Memo memo_;
 };
 
 }  // namespace deployfx::fem

@@ -27,13 +27,17 @@ AlphaParameters AlphaParameters::generalized_alpha(double rho) {
   return {am, af, 0.25 * (g + 0.5) * (g + 0.5), g};
 }
 
-GeneralizedAlpha::GeneralizedAlpha(const SecondOrderSystem& system, AlphaParameters p,
+GeneralizedAlpha::GeneralizedAlpha(SecondOrderSystem& system, AlphaParameters p,
                                    NewtonOptions newton)
     : sys_(system), p_(p), newton_(newton) {}
 
 AlphaState GeneralizedAlpha::initial_state(double t0, const Eigen::VectorXd& q0,
-                                           const Eigen::VectorXd& v0) const {
-  AlphaState s{t0, q0, v0, Eigen::VectorXd::Zero(v0.size()), Eigen::VectorXd(), Eigen::VectorXd(), 0.0};
+                                           const Eigen::VectorXd& v0) {
+  AlphaState s;
+  s.t = t0;
+  s.q = q0;
+  s.v = v0;
+  s.vdot = Eigen::VectorXd::Zero(v0.size());
   // r is affine in vdot: one Newton step with S = dr/da is exact, a second polishes round-off.
   BorderedSolver mass;
   for (int k = 0; k < 2; ++k) {
@@ -44,18 +48,19 @@ AlphaState GeneralizedAlpha::initial_state(double t0, const Eigen::VectorXd& q0,
   }
   if (!s.vdot.allFinite()) throw StepFailure("initial accelerations are not finite at t = " + std::to_string(t0));
   s.a = s.vdot;
+  s.base_accel = s.vdot.head(sys_.num_conserved());
   return s;
 }
 
 void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v,
-                                       const Eigen::VectorXd& Pi) const {
+                                       const Eigen::VectorXd& Pi) {
   // Pi is linear in v: one solve with dPi/dv on the conserved velocities is exact.
   const int nc = sys_.num_conserved();
   const Eigen::MatrixXd J = sys_.momentum_jacobian(q, v, 1.0, 0.0).leftCols(nc);
   v.head(nc) += J.partialPivLu().solve(Pi - sys_.momentum(q, v));
 }
 
-int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess) const {
+int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess) {
   const double am = p_.alpha_m, af = p_.alpha_f, beta = p_.beta, gamma = p_.gamma;
   const double t1 = s.t + h;
   const int nc = sys_.num_conserved();
@@ -198,6 +203,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       s.vdot_prev = std::move(s.vdot);
       s.h_prev = h;
       s.vdot = vdot;
+      s.base_accel = w;
       s.a = a_new;
       s.t = t1;
       return it;

@@ -70,6 +70,15 @@ struct NewtonOptions {
 struct AlphaState {
   double t = 0;
   Eigen::VectorXd q, v, vdot, a;  // a: the algorithmic acceleration
+  /// With conserved momenta: the accelerations of the momentum rows' coordinates (the base's)
+  /// that the equations of motion see at t (vdot's are algorithmic there); empty otherwise.
+  Eigen::VectorXd base_accel;
+  /// vdot with base_accel in place: the accelerations that satisfy the equations of motion.
+  Eigen::VectorXd accelerations() const {
+    Eigen::VectorXd x = vdot;
+    x.head(base_accel.size()) = base_accel;
+    return x;
+  }
   /// The Newton predictor's history: vdot one step back and that step's size (0: none).
   Eigen::VectorXd vdot_prev;
   double h_prev = 0;
@@ -80,34 +89,36 @@ struct StepFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// One run's integrator: the scheme's parameters and Newton's options, and the run's solver state
+/// (the factorized iteration matrix, the step size it was built for, the reuse policy's counters).
 class GeneralizedAlpha {
  public:
-  GeneralizedAlpha(const SecondOrderSystem& system, AlphaParameters p, NewtonOptions newton = {});
+  GeneralizedAlpha(SecondOrderSystem& system, AlphaParameters p, NewtonOptions newton = {});
   /// A consistent start: solves r(q0, v0, vdot0, t0) = 0 for vdot0; a0 = vdot0.
-  AlphaState initial_state(double t0, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0) const;
+  AlphaState initial_state(double t0, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0);
   /// Advances `s` by h. Throws StepFailure (the state is left unchanged) if Newton fails.
   /// Returns the number of Newton iterations. `guess`, if given, is Newton's starting vdot_{n+1}
   /// in place of the predictor (an event search's interpolation between the bracket's ends).
-  int step(AlphaState& s, double h, const Eigen::VectorXd* guess = nullptr) const;
-  const SecondOrderSystem& system() const { return sys_; }
+  int step(AlphaState& s, double h, const Eigen::VectorXd* guess = nullptr);
+  SecondOrderSystem& system() const { return sys_; }
   const AlphaParameters& parameters() const { return p_; }
   /// Numeric factorizations of the iteration matrix so far.
   long factorizations() const { return solver_.factorizations(); }
 
  private:
-  void polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v, const Eigen::VectorXd& Pi) const;
-  const SecondOrderSystem& sys_;
+  void polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v, const Eigen::VectorXd& Pi);
+  SecondOrderSystem& sys_;
   AlphaParameters p_;
   NewtonOptions newton_;
-  // Scratch of one run: the factorized iteration matrix and the step size it was built for.
-  mutable BorderedSolver solver_;
-  mutable double factor_h_ = -1;
+  // The run's solver state: the factorized iteration matrix and the step size it was built for.
+  BorderedSolver solver_;
+  double factor_h_ = -1;
   // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps).
-  mutable int full_steps_ = 0;
+  int full_steps_ = 0;
   // With conserved momenta: dPi/dvdot of the momentum rows at the last factorization, and the LU
   // of its base columns.
-  mutable Eigen::MatrixXd momentum_jacobian_;
-  mutable Eigen::PartialPivLU<Eigen::MatrixXd> momentum_lu_;
+  Eigen::MatrixXd momentum_jacobian_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> momentum_lu_;
 };
 
 }  // namespace deployfx::integrate

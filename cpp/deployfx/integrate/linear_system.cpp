@@ -13,13 +13,13 @@ LinearSystem::LinearSystem(Eigen::MatrixXd M, Eigen::MatrixXd C, Eigen::MatrixXd
 }
 
 Eigen::VectorXd LinearSystem::residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                       const Eigen::VectorXd& a, double) const {
+                                       const Eigen::VectorXd& a, double) {
   return M_ * a + C_ * v + K_ * q;
 }
 
 BlockMatrix LinearSystem::iteration_matrix(const Eigen::VectorXd&, const Eigen::VectorXd&,
                                            const Eigen::VectorXd&, double, double c_a, double c_v,
-                                           double c_q) const {
+                                           double c_q) {
   return BlockMatrix::from_dense(c_a * M_ + c_v * C_ + c_q * K_);
 }
 

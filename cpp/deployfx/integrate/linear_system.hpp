@@ -14,10 +14,10 @@ class LinearSystem final : public SecondOrderSystem {
   int num_positions() const override { return static_cast<int>(M_.rows()); }
   int num_velocities() const override { return static_cast<int>(M_.rows()); }
   Eigen::VectorXd residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                           const Eigen::VectorXd& a, double t) const override;
+                           const Eigen::VectorXd& a, double t) override;
   BlockMatrix iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                    const Eigen::VectorXd& a, double t, double c_a, double c_v,
-                                   double c_q) const override;
+                                   double c_q) override;
 
  private:
   Eigen::MatrixXd M_, C_, K_;

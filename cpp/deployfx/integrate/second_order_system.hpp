@@ -2,7 +2,9 @@
 // The interface an integrator needs from a mechanical system written in residual form
 //   r(q, v, a, t) = M(q) a - f(q, v, t) = 0,
 // with configuration q (which may live on a manifold: retract() maps a tangent increment onto it),
-// velocity v and acceleration a (both of size num_velocities()).
+// velocity v and acceleration a (both of size num_velocities()). One object per run: its
+// evaluations may update the run's own data (memos, contact history; multibody::TreeSystem holds
+// an immutable model and a run's Data), so they are not const.
 #include <Eigen/Core>
 
 #include "deployfx/integrate/block_matrix.hpp"
@@ -20,19 +22,19 @@ class SecondOrderSystem {
   }
   /// r(q, v, a, t).
   virtual Eigen::VectorXd residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                   const Eigen::VectorXd& a, double t) const = 0;
+                                   const Eigen::VectorXd& a, double t) = 0;
   /// S = c_a dr/da + c_v dr/dv + c_q dr/dq, the Newton iteration matrix of an implicit scheme
   /// (dr/dq taken along retract()), with the velocity ordering's leading dofs as the border.
   virtual BlockMatrix iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                        const Eigen::VectorXd& a, double t, double c_a,
-                                       double c_v, double c_q) const = 0;
+                                       double c_v, double c_q) = 0;
 
   /// The largest fraction in (0, 1] of a Newton increment worth taking from the iterate (q, v),
   /// given the velocity change dv the whole increment would make. A system whose residual turns
   /// sharply in a velocity (a regularized friction law at stick, steep over a narrow band) limits
   /// the steps that would carry Newton across the band, where it overshoots and cycles. Default 1.
   virtual double newton_step_limit(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/,
-                                   const Eigen::VectorXd& /*dv*/) const {
+                                   const Eigen::VectorXd& /*dv*/) {
     return 1.0;
   }
 
@@ -42,12 +44,12 @@ class SecondOrderSystem {
   /// Number of leading residual rows that are momentum balances (0: none).
   virtual int num_conserved() const { return 0; }
   /// Pi(q, v), size num_conserved(), in a fixed (inertial) frame.
-  virtual Eigen::VectorXd momentum(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/) const {
+  virtual Eigen::VectorXd momentum(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/) {
     return {};
   }
   /// c_v dPi/dv + c_q dPi/dq, (num_conserved() x num_velocities()).
   virtual Eigen::MatrixXd momentum_jacobian(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/,
-                                            double /*c_v*/, double /*c_q*/) const {
+                                            double /*c_v*/, double /*c_q*/) {
     return {};
   }
 
@@ -56,13 +58,15 @@ class SecondOrderSystem {
   // remember (latches, onset speeds) as per-run history, updated only on accepted steps.
   /// Signed gaps of the contacts that can close (empty: none).
   virtual Eigen::VectorXd gaps(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/,
-                               double /*t*/) const {
+                               double /*t*/) {
     return {};
   }
-  /// Called after every accepted step.
-  virtual void accept(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/, double /*t*/) const {}
-  /// Forgets the history (called before a run).
-  virtual void reset_history() const {}
+  /// Called after every accepted step. An event function at or below its `margin` (same order
+  /// as gaps(); empty: all 0) has switched: at a located event, the stepper gives every event a
+  /// margin of the location tolerance, so that events simultaneous to round-off (two symmetric
+  /// wings locking together) switch together.
+  virtual void accept(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/, double /*t*/,
+                      const Eigen::VectorXd& /*margin*/ = Eigen::VectorXd()) {}
 };
 
 }  // namespace deployfx::integrate

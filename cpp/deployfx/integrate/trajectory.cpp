@@ -1,6 +1,7 @@
 #include "deployfx/integrate/trajectory.hpp"
 
 #include <cmath>
+#include <sstream>
 
 #include "deployfx/math/check.hpp"
 
@@ -19,18 +20,27 @@ constexpr double kEventTolerance = 1e-9;   // on G, the events normalised by the
 
 // Advances s by h, halving on Newton failure; returns the Newton iterations spent. On failure
 // s is unchanged and StepFailure propagates. `guess`: Newton's start for the whole step.
-int advance(const GeneralizedAlpha& integrator, AlphaState& s, double h, int depth, long* substeps,
+// A stop asked for by the caller's Poll: ends the run with the states recorded so far.
+struct Stopped {
+  std::string why;
+};
+
+int advance(GeneralizedAlpha& integrator, AlphaState& s, double h, int depth, long* substeps, const Poll& poll,
             const Eigen::VectorXd* guess = nullptr) {
   try {
     const int it = integrator.step(s, h, guess);
     ++*substeps;
+    if (poll) {
+      std::string why = poll(s.t);
+      if (!why.empty()) throw Stopped{std::move(why)};
+    }
     return it;
   } catch (const StepFailure&) {
     if (depth >= kMaxHalvings) throw;
   }
   AlphaState trial = s;
-  const int it = advance(integrator, trial, 0.5 * h, depth + 1, substeps) +
-                 advance(integrator, trial, 0.5 * h, depth + 1, substeps);
+  const int it = advance(integrator, trial, 0.5 * h, depth + 1, substeps, poll) +
+                 advance(integrator, trial, 0.5 * h, depth + 1, substeps, poll);
   s = std::move(trial);
   return it;
 }
@@ -47,27 +57,34 @@ double first_switch(const Eigen::VectorXd& g0, const Eigen::VectorXd& g) {
 
 }  // namespace
 
-Trajectory run_fixed_step(const GeneralizedAlpha& integrator, AlphaState s, double t_end, double h,
+Trajectory run_fixed_step(GeneralizedAlpha& integrator, AlphaState s, double t_end, double h,
                           const Observer& observe) {
   return run(integrator, std::move(s), t_end, h, StepControl{}, observe);
 }
 
-Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, double h,
-               const StepControl& control, const Observer& observe) {
+Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double h,
+               const StepControl& control, const Observer& observe, const Poll& poll) {
   require_positive("dt", h, "(s)");
   if (!(control.tolerance >= 0 && std::isfinite(control.tolerance)))
     throw_out_of_range("tolerance", control.tolerance, ">= 0 (m or rad; 0: fixed steps)");
   require_finite("t_end", t_end, "(s)");
   if (t_end < s.t) throw_out_of_range("t_end", t_end, ">= the start time");
-  const SecondOrderSystem& sys = integrator.system();
+  SecondOrderSystem& sys = integrator.system();
   Trajectory tr;
-  const long steps = std::lround(std::ceil((t_end - s.t) / h - 1e-9));
+  // Output steps are counted in a long and their times kept: beyond 1e9 of them the run cannot be
+  // stored (8 GB of times alone), and t_end / dt may overflow the count.
+  const double outputs = std::ceil((t_end - s.t) / h - 1e-9);
+  if (!(outputs <= 1e9)) {
+    std::ostringstream e;
+    e << "t_end = " << t_end << " s and dt = " << h << " s ask for " << outputs
+      << " output steps: (t_end - t0) / dt must be <= 1e9";
+    throw std::invalid_argument(e.str());
+  }
+  const long steps = std::lround(outputs);
   tr.t.reserve(static_cast<std::size_t>(std::min(steps + 1, 1L << 20)));
   bool stopped = false;
   auto record = [&] {
     tr.t.push_back(s.t);
-    tr.q.push_back(s.q);
-    tr.v.push_back(s.v);
     if (observe && !observe(s)) {
       stopped = true;
       tr.failure = "stopped by the caller at t = " + std::to_string(s.t) + " s";
@@ -90,7 +107,7 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
       while (target - s.t > snap) {
         const double h_k = adaptive ? std::min(h_try, target - s.t) : target - s.t;
         AlphaState trial = s;
-        iterations += advance(integrator, trial, h_k, 0, &tr.substeps);
+        iterations += advance(integrator, trial, h_k, 0, &tr.substeps, poll);
         if (adaptive) {
           // Local error of the Newmark-family displacement update, h^2 (beta - 1/6)(a_n+1 - a_n)
           // (Zienkiewicz & Xie, Earthquake Eng. Struct. Dyn. 20, 1991, 871-887), in the
@@ -149,7 +166,7 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
           AlphaState m = s;
           const Eigen::VectorXd guess = vdot_lo + ((mid - lo) / (hi - lo)) * (best.vdot - vdot_lo);
           try {
-            iterations += advance(integrator, m, mid, 0, &tr.substeps, &guess);
+            iterations += advance(integrator, m, mid, 0, &tr.substeps, poll, &guess);
           } catch (const StepFailure&) {
             break;  // a search step Newton cannot take: the event is at the bracket's end hi
           }
@@ -167,7 +184,12 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
           }
         }
         s = std::move(best);
-        sys.accept(s.q, s.v, s.t);
+        // Every event within the location tolerance of its switch switches here too: events
+        // simultaneous to round-off (symmetric contacts) must not part by a tiny step.
+        Eigen::VectorXd margin = Eigen::VectorXd::Zero(g0.size());
+        for (Eigen::Index i = 0; i < g0.size(); ++i)
+          if (g0(i) > 0 && std::isfinite(g0(i))) margin(i) = kEventTolerance * g0(i);
+        sys.accept(s.q, s.v, s.t, margin);
         ++tr.events;
         ++tr.steps;
         if (target - s.t > snap) {
@@ -179,6 +201,9 @@ Trajectory run(const GeneralizedAlpha& integrator, AlphaState s, double t_end, d
       }
     } catch (const StepFailure& e) {
       tr.failure = e.what();
+      return tr;
+    } catch (const Stopped& e) {
+      tr.failure = e.why;
       return tr;
     }
     s.t = target;

@@ -27,9 +27,9 @@ struct StepControl {
   double min_step = 1e-9;   ///< s
 };
 
+/// What a run did; the states themselves go to the Observer at each recorded time.
 struct Trajectory {
   std::vector<double> t;                // recorded times (output steps and contact onsets), s
-  std::vector<Eigen::VectorXd> q, v;    // per recorded time
   std::vector<int> newton_iterations;   // per recorded interval (summed over its substeps)
   long substeps = 0;                    // integrator steps taken (event searches included)
   long events = 0;                      // contact switches located
@@ -41,13 +41,17 @@ struct Trajectory {
 /// Called with the state at each recorded time, after the system's history was updated; returns
 /// false to stop the run there (the trajectory so far is kept, `failure` says when).
 using Observer = std::function<bool(const AlphaState&)>;
+/// Called after every integrator step (event-search trials included) with the time reached;
+/// returns a reason to stop the run (Ctrl-C, a stop flag), or an empty string to go on. The run
+/// then ends with the states recorded so far and `failure` saying why and when.
+using Poll = std::function<std::string(double)>;
 
 /// Output every dt = h (and at located events), with the step control `control`.
 /// Throws std::invalid_argument for h <= 0, t_end < t0 or a negative tolerance.
-Trajectory run(const GeneralizedAlpha& integrator, AlphaState state, double t_end, double h,
-               const StepControl& control, const Observer& observe = {});
+Trajectory run(GeneralizedAlpha& integrator, AlphaState state, double t_end, double h,
+               const StepControl& control, const Observer& observe = {}, const Poll& poll = {});
 /// run() with fixed steps.
-Trajectory run_fixed_step(const GeneralizedAlpha& integrator, AlphaState state, double t_end, double h,
+Trajectory run_fixed_step(GeneralizedAlpha& integrator, AlphaState state, double t_end, double h,
                           const Observer& observe = {});
 
 }  // namespace deployfx::integrate

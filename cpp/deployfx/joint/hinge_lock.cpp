@@ -61,7 +61,11 @@ void add_wall(const HingeLockSpec& lock, double s, double theta_w, double v0, do
   // Normal: torque -s r F_n; friction on the slip r theta' (opposing it), only while pushing.
   const auto Ft = Fn.F > 0 ? lock.friction.evaluate(r * rate, Fn.F) : contact::FrictionForce{};
   out.normal_force += Fn.F;
-  out.torque += -s * r * Fn.F + r * Ft.F_t;  // its theta- and rate-columns: the Newton matrix's differences
+  out.torque += -s * r * Fn.F + r * Ft.F_t;
+  // d delta/d theta = d delta'/d theta' = s r.
+  const double dFn_dtheta = Fn.dF_ddelta * s * r, dFn_drate = Fn.dF_ddelta_dot * s * r;
+  out.d_theta += -s * r * dFn_dtheta + r * Ft.dF_dF_n * dFn_dtheta;
+  out.d_rate += -s * r * dFn_drate + r * (Ft.dF_dv_t * r + Ft.dF_dF_n * dFn_drate);
 }
 
 }  // namespace
@@ -111,13 +115,14 @@ double friction_step_limit(const HingeLockSpec& lock, const LockHistory& h, doub
   return rate / (rate - next);
 }
 
-void update_lock_history(const HingeLockSpec& lock, LockHistory& h, double theta, double rate) {
+void update_lock_history(const HingeLockSpec& lock, LockHistory& h, double theta, double rate, double stop_margin,
+                         double latch_margin) {
   if (!h.latched && theta >= lock.theta_latch()) h.latched = true;
   const double r = lock.pin_radius;
   // A wall switches mode when its event function is no longer positive; a closing wall keeps
   // its approach speed (the Hunt-Crossley family's v0).
-  auto update = [&](bool& closed, bool& inside, double& v0, double delta, double delta_dot) {
-    if (wall_event(lock.law, closed, inside, v0, delta, delta_dot) <= 0) {
+  auto update = [&](bool& closed, bool& inside, double& v0, double delta, double delta_dot, double margin) {
+    if (wall_event(lock.law, closed, inside, v0, delta, delta_dot) <= margin) {
       closed = !closed;
       // The Hunt-Crossley family's damping scales as 1/v0: a wall that recloses while the pin
       // rests on it would get an unbounded damper. Floor: kMinOnsetSpeed.
@@ -125,9 +130,10 @@ void update_lock_history(const HingeLockSpec& lock, LockHistory& h, double theta
     }
     inside = !closed && delta > 0;
   };
-  update(h.stop_contact, h.stop_inside, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
+  update(h.stop_contact, h.stop_inside, h.stop_v0, r * (theta - lock.theta_lock), r * rate, stop_margin);
   if (h.latched)
-    update(h.latch_contact, h.latch_inside, h.latch_v0, r * (lock.theta_latch() - theta), -r * rate);
+    update(h.latch_contact, h.latch_inside, h.latch_v0, r * (lock.theta_latch() - theta), -r * rate,
+           latch_margin);
 }
 
 }  // namespace deployfx::joint

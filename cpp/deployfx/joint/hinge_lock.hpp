@@ -45,6 +45,8 @@ struct LockHistory {
 struct LockLoad {
   double torque = 0;        ///< N m, on theta
   double normal_force = 0;  ///< N, sum over both walls (>= 0 between events)
+  double d_theta = 0;       ///< d torque / d theta, N m/rad
+  double d_rate = 0;        ///< d torque / d theta', N m s/rad
 };
 
 LockLoad lock_load(const HingeLockSpec& lock, const LockHistory& history, double theta, double rate);
@@ -65,7 +67,10 @@ void lock_events(const HingeLockSpec& lock, const LockHistory& history, double t
 /// overshoot to a root on either side (the law is concave on one side of 0, convex on the
 /// other). 1 otherwise (no wall in contact, no friction, no such crossing).
 double friction_step_limit(const HingeLockSpec& lock, const LockHistory& history, double rate, double rate_change);
-/// Updates the history after an accepted step ending at (theta, rate).
-void update_lock_history(const HingeLockSpec& lock, LockHistory& history, double theta, double rate);
+/// Updates the history after an accepted step ending at (theta, rate): a wall switches mode when
+/// its event function (lock_events) is at or below its margin (stop's, latch's; 0 but at a
+/// located event, see integrate::SecondOrderSystem::accept).
+void update_lock_history(const HingeLockSpec& lock, LockHistory& history, double theta, double rate,
+                         double stop_margin = 0.0, double latch_margin = 0.0);
 
 }  // namespace deployfx::joint

@@ -1,0 +1,372 @@
+// Glue for deployfx/multibody: the scene's spec structs (keyword-constructible), the compiled
+// Model, a run's Data, the engine's stages for tests and tools, and simulate (run_loop.hpp).
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deployfx/multibody/events.hpp"
+#include "deployfx/multibody/model.hpp"
+#include "deployfx/multibody/momentum.hpp"
+#include "deployfx/multibody/newton_matrix.hpp"
+#include "deployfx/multibody/outputs.hpp"
+#include "deployfx/multibody/residual.hpp"
+#include "run_loop.hpp"
+
+namespace py = pybind11;
+using namespace deployfx::multibody;
+using deployfx::joint::HingeLockSpec;
+using deployfx::joint::LockHistory;
+
+namespace {
+
+using ModelPtr = std::shared_ptr<Model>;  // used as const: the model is immutable
+
+// A run's Data together with the model it was made for (a Data is meaningless without it).
+struct PyData {
+  ModelPtr model;
+  Data data;
+  explicit PyData(ModelPtr m) : model(std::move(m)), data(*model) {}
+};
+
+// The Data to evaluate with: the caller's (checked against the model), or a fresh one.
+struct DataArg {
+  std::optional<Data> own;
+  Data* data;
+  DataArg(const Model& m, PyData* given) {
+    if (given) {
+      if (given->model.get() != &m) throw std::invalid_argument("data was made for another model: use model.make_data()");
+      data = &given->data;
+    } else {
+      own.emplace(m);
+      data = &*own;
+    }
+  }
+};
+
+void check_hinge(const Model& m, int k) {
+  if (k < 0 || k >= m.num_hinges())
+    throw std::invalid_argument("hinge = " + std::to_string(k) + " is out of range: must be in [0, " +
+                                std::to_string(m.num_hinges() - 1) + "]");
+}
+
+py::dict outputs_dict(const Outputs& o) {
+  py::dict d;
+  d["theta"] = o.theta;
+  d["theta_rate"] = o.rate;
+  d["spring_torque"] = o.spring_torque;
+  d["lock_force"] = o.lock_force;
+  d["lock_torque"] = o.lock_torque;
+  d["latched"] = o.latched;
+  d["strain_energy"] = o.strain_energy;
+  d["hinge_force"] = Eigen::MatrixXd(o.hinge_force.transpose());
+  d["hinge_moment"] = Eigen::MatrixXd(o.hinge_moment.transpose());
+  d["linear_momentum"] = o.P_W;
+  d["angular_momentum"] = o.H_W;
+  d["base_linear_momentum"] = o.P_base_W;
+  d["base_angular_momentum"] = o.H_base_W;
+  d["kinetic_energy"] = o.kinetic;
+  d["potential_energy"] = o.potential;
+  return d;
+}
+
+}  // namespace
+
+void define_multibody(py::module_& m) {
+  py::class_<deployfx::body::RigidInertia>(m, "RigidInertia",
+                                           "A rigid body in a frame F: mass (kg), centre of mass (m, F) and inertia "
+                                           "about it (kg m^2, F axes).")
+      .def(py::init([](double mass, const Eigen::Vector3d& com, const Eigen::Matrix3d& inertia) {
+             return deployfx::body::RigidInertia{mass, com, inertia};
+           }),
+           py::kw_only(), py::arg("mass") = 0.0, py::arg("com") = Eigen::Vector3d::Zero().eval(),
+           py::arg("inertia") = Eigen::Matrix3d::Zero().eval())
+      .def_readonly("mass", &deployfx::body::RigidInertia::mass)
+      .def_readonly("com", &deployfx::body::RigidInertia::com)
+      .def_readonly("inertia", &deployfx::body::RigidInertia::inertia_com);
+
+  py::class_<SpinUpDriver>(m, "SpinUpDriver", "theta(t) of Kane, Ryan & Banerjee (1987): omega_s (rad/s), t_s (s).")
+      .def(py::init([](double omega_s, double t_s) { return SpinUpDriver{omega_s, t_s}; }), py::kw_only(),
+           py::arg("omega_s"), py::arg("t_s"))
+      .def("evaluate",
+           [](const SpinUpDriver& d, double t) {
+             double th, r, a;
+             d.evaluate(t, &th, &r, &a);
+             return py::make_tuple(th, r, a);
+           },
+           py::arg("t"));
+
+  py::class_<HingeLockSpec>(m, "HingeLockSpec")
+      .def(py::init([](double theta_lock, double pin_radius, double clearance, const deployfx::contact::ContactLaw& law,
+                       double mu, double v_reg) {
+             HingeLockSpec l{theta_lock, pin_radius, clearance, law, deployfx::contact::CoulombFriction(mu, v_reg)};
+             l.validate();
+             return l;
+           }),
+           py::kw_only(), py::arg("theta_lock"), py::arg("pin_radius"), py::arg("clearance"), py::arg("law"),
+           py::arg("mu") = 0.0, py::arg("v_reg") = 1e-4)
+      .def_readonly("theta_lock", &HingeLockSpec::theta_lock)
+      .def_readonly("pin_radius", &HingeLockSpec::pin_radius)
+      .def_readonly("clearance", &HingeLockSpec::clearance);
+
+  py::class_<LockHistory>(m, "LockHistory", "What a lock remembers between steps (joint/hinge_lock.hpp).")
+      .def(py::init<>())
+      .def_readwrite("latched", &LockHistory::latched)
+      .def_readwrite("stop_contact", &LockHistory::stop_contact)
+      .def_readwrite("latch_contact", &LockHistory::latch_contact)
+      .def_readwrite("stop_inside", &LockHistory::stop_inside)
+      .def_readwrite("latch_inside", &LockHistory::latch_inside)
+      .def_readwrite("stop_v0", &LockHistory::stop_v0)
+      .def_readwrite("latch_v0", &LockHistory::latch_v0);
+
+  py::class_<AppendageSpec>(m, "PanelSpec", "A panel in its body frame: a ShellModel (nodes in C, m), its clamped dofs, "
+                                            "fidelity, Rayleigh damping alpha_M (1/s), beta_K (s), and for the reduced "
+                                            "fidelities modes and derivative_modes (-1: automatic).")
+      .def(py::init([](const deployfx::fem::ShellModel& shell, std::vector<int> fixed_dofs, const std::string& fidelity,
+                       double alpha_M, double beta_K, int modes, int derivative_modes) {
+             return AppendageSpec{std::make_shared<const deployfx::fem::ShellModel>(shell), std::move(fixed_dofs),
+                                  deployfx::body::fidelity_from_name(fidelity, "panel.fidelity"), alpha_M, beta_K, modes,
+                                  derivative_modes};
+           }),
+           py::kw_only(), py::arg("shell"), py::arg("fixed_dofs"), py::arg("fidelity"), py::arg("alpha_M") = 0.0,
+           py::arg("beta_K") = 0.0, py::arg("modes") = 10, py::arg("derivative_modes") = -1);
+
+  py::class_<HingeSpec>(m, "HingeSpec",
+                        "Hinge k and the body it carries: parent (-1 the base, else an earlier hinge's index), a point "
+                        "of the axis (m) and the unit axis in the parent's frame, R_PC0 (the body frame's axes at "
+                        "theta = 0), spring tau0 - k_theta theta (N m, N m/rad), damper c_theta (N m s/rad), a "
+                        "prescribed angle (driver), a lock, the body's rigid parts and a panel.")
+      .def(py::init([](int parent, const Eigen::Vector3d& point, const Eigen::Vector3d& axis, const Eigen::Matrix3d& R_PC0,
+                       double tau0, double k_theta, double c_theta, std::optional<SpinUpDriver> driver,
+                       std::optional<HingeLockSpec> lock, const deployfx::body::RigidInertia& body,
+                       std::optional<AppendageSpec> panel) {
+             HingeSpec h;
+             h.parent = parent;
+             h.point = point;
+             h.axis = axis;
+             h.R_PC0 = R_PC0;
+             h.tau0 = tau0;
+             h.k_theta = k_theta;
+             h.c_theta = c_theta;
+             h.driver = driver;
+             h.lock = lock;
+             h.body = body;
+             h.panel = std::move(panel);
+             return h;
+           }),
+           py::kw_only(), py::arg("parent") = -1, py::arg("point") = Eigen::Vector3d::Zero().eval(),
+           py::arg("axis") = Eigen::Vector3d::UnitY().eval(), py::arg("R_PC0") = Eigen::Matrix3d::Identity().eval(),
+           py::arg("tau0") = 0.0, py::arg("k_theta") = 0.0, py::arg("c_theta") = 0.0, py::arg("driver") = py::none(),
+           py::arg("lock") = py::none(), py::arg("body") = deployfx::body::RigidInertia{},
+           py::arg("panel") = py::none());
+
+  py::class_<Model, ModelPtr>(m, "Model",
+                              "The compiled scene (immutable, shared by runs): q = a free base's position (m) and unit "
+                              "quaternion (w, x, y, z), the undriven hinges' angles (rad), then each panel's elastic "
+                              "coordinates in hinge order.")
+      .def(py::init([](bool base_free, const deployfx::body::RigidInertia& base, std::vector<HingeSpec> hinges) {
+             TreeSpec spec{BaseSpec{base_free, base}, std::move(hinges)};
+             py::gil_scoped_release release;  // compiling panels (bases, modal coefficients) can take a while
+             return std::make_shared<Model>(std::move(spec));
+           }),
+           py::kw_only(), py::arg("base_free"), py::arg("base"), py::arg("hinges"))
+      .def_property_readonly("num_positions", &Model::num_positions)
+      .def_property_readonly("num_velocities", &Model::num_velocities)
+      .def_property_readonly("num_hinges", &Model::num_hinges)
+      .def_property_readonly("num_conserved", &Model::num_conserved)
+      .def_property_readonly("border", &Model::border, "Base and hinge coordinates (the Newton matrix's border).")
+      .def_property_readonly("base_free", &Model::base_free)
+      .def(
+          "layout",
+          [](const Model& s, int k) {
+            check_hinge(s, k);
+            const Body& b = s.body(k);
+            py::dict d;
+            d["parent"] = b.parent;
+            d["iq_theta"] = b.iq_theta;
+            d["iv_theta"] = b.iv_theta;
+            d["num_elastic"] = b.n_el;
+            d["iq_elastic"] = b.iq_el;
+            d["iv_elastic"] = b.iv_el;
+            d["attachment_node"] = b.attachment ? b.attachment->node : -1;
+            return d;
+          },
+          py::arg("hinge"),
+          "Hinge k's coordinates: its parent, where its angle sits in q and v (-1: driven), its panel's elastic "
+          "coordinates (count, first index in q and v), and the parent panel's node it rides on (-1: none).")
+      .def(
+          "displacement_map",
+          [](const Model& s, int k) {
+            check_hinge(s, k);
+            const auto& panel = s.body(k).panel;
+            if (!panel) return Eigen::MatrixXd(0, 0);
+            std::vector<int> all(static_cast<std::size_t>(panel->spec().model->num_dofs()));
+            for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+            return panel->mesh_rows(all);
+          },
+          py::arg("hinge"),
+          "Hinge k's panel: mesh displacements per elastic coordinate, (6 nodes x num_elastic): the Ritz basis of a "
+          "reduced panel, a selection of the free dofs for a full one; empty without a deforming panel.")
+      .def(
+          "basis_info",
+          [](const Model& s, int k) -> py::object {
+            check_hinge(s, k);
+            const auto& panel = s.body(k).panel;
+            if (!panel || !panel->reduced()) return py::none();
+            py::dict d;
+            d["modes"] = panel->basis().modes;
+            d["static_corrections"] = panel->basis().static_corrections;
+            d["modal_derivatives"] = panel->basis().modal_derivatives;
+            d["size"] = static_cast<int>(panel->basis().Phi.cols());
+            d["omega2"] = panel->basis().omega2;
+            return std::move(d);
+          },
+          py::arg("hinge"),
+          "A reduced panel's basis: the vectors proposed of each kind, its size and Ritz values ((rad/s)^2); None "
+          "otherwise.")
+      .def("initial_positions", &Model::initial_positions)
+      .def("retract",
+           [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& dq) {
+             s.check_state(q, Eigen::VectorXd::Zero(s.num_velocities()), &dq);
+             return s.retract(q, dq);
+           },
+           py::arg("q"), py::arg("dq"))
+      .def("make_data", [](const ModelPtr& s) { return std::make_unique<PyData>(s); },
+           "A run's data for this model (lock histories, memos, staged kinematics).")
+      .def(
+          "residual",
+          [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,
+             PyData* data) {
+            s.check_state(q, v, &a);
+            DataArg d(s, data);
+            return residual(s, *d.data, q, v, a, t);
+          },
+          py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::kw_only(), py::arg("data") = nullptr)
+      .def(
+          "newton_matrix",
+          [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,
+             double c_a, double c_v, double c_q, PyData* data) {
+            s.check_state(q, v, &a);
+            DataArg d(s, data);
+            py::gil_scoped_release release;
+            return newton_matrix(s, *d.data, q, v, a, t, c_a, c_v, c_q).dense();
+          },
+          py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::arg("c_a"), py::arg("c_v"), py::arg("c_q"),
+          py::kw_only(), py::arg("data") = nullptr,
+          "c_a dr/da + c_v dr/dv + c_q dr/dq (dr/dq along retract()), assembled dense.")
+      .def(
+          "momentum",
+          [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t, PyData* data) {
+            s.check_state(q, v);
+            DataArg d(s, data);
+            d.data->t = t;
+            return momentum(s, *d.data, q, v);
+          },
+          py::arg("q"), py::arg("v"), py::kw_only(), py::arg("t") = 0.0, py::arg("data") = nullptr)
+      .def(
+          "momentum_jacobian",
+          [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v, double c_q, PyData* data) {
+            s.check_state(q, v);
+            DataArg d(s, data);
+            return momentum_jacobian(s, *d.data, q, v, c_v, c_q);
+          },
+          py::arg("q"), py::arg("v"), py::arg("c_v"), py::arg("c_q"), py::kw_only(), py::arg("data") = nullptr)
+      .def(
+          "lock_events",
+          [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, PyData* data) {
+            s.check_state(q, v);
+            DataArg d(s, data);
+            return lock_events(s, *d.data, q, v);
+          },
+          py::arg("q"), py::arg("v"), py::kw_only(), py::arg("data") = nullptr,
+          "The locks' event functions (stop, latch per locked hinge) under data's history: positive while each "
+          "wall's mode holds (m for a gap, N for a force; the latch's is inf until latched).")
+      .def(
+          "outputs",
+          [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,
+             PyData* data) {
+            s.check_state(q, v, &a);
+            DataArg d(s, data);
+            return outputs_dict(outputs(s, *d.data, q, v, a, t));
+          },
+          py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::kw_only(), py::arg("data") = nullptr)
+      .def(
+          "frames",
+          [](const Model& s, const Eigen::MatrixXd& Q, const Eigen::VectorXd& t) {
+            if (Q.cols() != s.num_positions() || t.size() != Q.rows())
+              throw std::invalid_argument("q must be (n, " + std::to_string(s.num_positions()) +
+                                          ") and t (n,), got q " + std::to_string(Q.rows()) + " x " +
+                                          std::to_string(Q.cols()) + " and t " + std::to_string(t.size()));
+            const int N = s.num_hinges();
+            const Eigen::Index n = Q.rows();
+            py::array_t<double> R({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(N), py::ssize_t{3}, py::ssize_t{3}});
+            py::array_t<double> o({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(N), py::ssize_t{3}});
+            auto Rm = R.mutable_unchecked<4>();
+            auto om = o.mutable_unchecked<3>();
+            Data d(s);
+            Eigen::MatrixXd Rk, ok;
+            for (Eigen::Index i = 0; i < n; ++i) {
+              const Eigen::VectorXd q = Q.row(i).transpose();
+              s.check_state(q, Eigen::VectorXd::Zero(s.num_velocities()));
+              body_frames(s, d, q, t(i), Rk, ok);
+              for (int k = 0; k < N; ++k)
+                for (int r = 0; r < 3; ++r) {
+                  om(i, k, r) = ok(r, k);
+                  for (int c = 0; c < 3; ++c) Rm(i, k, r, c) = Rk(r, 3 * k + c);
+                }
+            }
+            return py::make_tuple(R, o);
+          },
+          py::arg("q"), py::arg("t"),
+          "Every body's frame in W at each recorded configuration: R_WC (n, hinges, 3, 3) and origins (n, hinges, 3), "
+          "m; a hinge on a panel rides on its deformed mesh.");
+
+  py::class_<PyData>(m, "Data", "A run's data on one model: lock histories, memos and the staged kinematics.")
+      .def(py::init([](const ModelPtr& model) { return std::make_unique<PyData>(model); }), py::arg("model"))
+      .def(
+          "lock",
+          [](const PyData& d, int k) {
+            check_hinge(*d.model, k);
+            return d.data.locks[static_cast<std::size_t>(k)];
+          },
+          py::arg("hinge"), "Hinge k's lock history (a copy).")
+      .def(
+          "set_lock",
+          [](PyData& d, int k, const LockHistory& h) {
+            check_hinge(*d.model, k);
+            d.data.locks[static_cast<std::size_t>(k)] = h;
+          },
+          py::arg("hinge"), py::arg("history"))
+      .def("reset_history", [](PyData& d) { d.data.reset_history(); });
+
+  m.def(
+      "simulate",
+      [](const ModelPtr& model, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0, double t_end, double dt,
+         const deployfx::integrate::AlphaParameters& scheme, bool reuse_jacobian, double tolerance,
+         const py::object& progress, const py::object& should_stop, PyData* data) {
+        DataArg d(*model, data);
+        RunOptions opt;
+        opt.t_end = t_end;
+        opt.dt = dt;
+        opt.scheme = scheme;
+        opt.reuse_jacobian = reuse_jacobian;
+        opt.tolerance = tolerance;
+        return run_released(*model, *d.data, q0, v0, opt, progress, should_stop);
+      },
+      py::arg("model"), py::arg("q0"), py::arg("v0"), py::kw_only(), py::arg("t_end"), py::arg("dt"),
+      py::arg("scheme"), py::arg("reuse_jacobian") = true, py::arg("tolerance") = 0.0, py::arg("progress") = py::none(),
+      py::arg("should_stop") = py::none(), py::arg("data") = nullptr,
+      "Runs the model from (q0, v0) to t_end (s), output every dt (s), the GIL released. Every 0.2 s of wall time "
+      "Ctrl-C is checked (main thread), progress(t, t_end) called and should_stop() asked (any thread); either "
+      "stops the run, keeping what was computed. Returns a dict of numpy arrays: t (n,), q (n, nq), v (n, nv), "
+      "per hinge (n, hinges): theta (rad), theta_rate (rad/s), spring_torque (N m), lock_force (N), lock_torque "
+      "(N m), latched (0/1), strain_energy (J); hinge_force, hinge_moment (n, hinges, 3: N, N m, about the hinge "
+      "point in the body's axes); linear_momentum, angular_momentum, base_linear_momentum, base_angular_momentum "
+      "(n, 3: N s, N m s about W's origin, W axes); kinetic_energy, potential_energy (n,) J; and the run's counts "
+      "(newton_iterations, substeps, steps, rejected, events, factorizations) and failure ('' when complete).");
+}

@@ -1,0 +1,56 @@
+#pragma once
+// What one run changes, kept apart from the immutable Model (MuJoCo's mjData, Pinocchio's Data):
+// the contacts' history, the memos of the panels' evaluations and the stages' outputs at the last
+// state evaluated. Every engine function takes (const Model&, Data&); one model backs any number
+// of Data, so runs on one model are independent (threads included) and bit-identical to serial
+// runs. Fields are grouped by the stage that writes them.
+#include <Eigen/Core>
+#include <vector>
+
+#include "deployfx/body/flexible_body.hpp"
+#include "deployfx/joint/hinge_lock.hpp"
+#include "deployfx/multibody/kinematics.hpp"
+#include "deployfx/multibody/model.hpp"
+
+namespace deployfx::multibody {
+
+/// A panel's elastic state at the last evaluation.
+struct PanelState {
+  Eigen::VectorXd q, v, a;     ///< its elastic coordinates, rates, accelerations (n_el)
+  Eigen::VectorXd d, dd, ddd;  ///< the same on its inertia's dofs (FlexibleBody::full)
+};
+
+class Data {
+ public:
+  explicit Data(const Model& m);
+
+  // History (written by accept() only, on accepted steps): per hinge (unused without a lock).
+  std::vector<joint::LockHistory> locks;
+  // Memos of the panels' evaluations (per hinge; used for the panels only).
+  std::vector<body::FlexibleBody::Workspace> panels;
+
+  // Stage: state (set_state): the joints' and panels' coordinates.
+  double t = 0;
+  std::vector<JointState<double>> joints;  ///< per hinge
+  std::vector<PanelState> elastic;         ///< per hinge (empty vectors without a panel)
+  // Stage: forward kinematics.
+  TreeMotion<double> motion;
+
+  /// Forgets the history (a new run).
+  void reset_history();
+  /// Whether this Data was made for a model of m's shape.
+  bool fits(const Model& m) const;
+
+ private:
+  int hinges_ = 0, nq_ = 0, nv_ = 0;
+};
+
+/// Throws std::invalid_argument unless `d` was made for `m`.
+void check_data(const Model& m, const Data& d);
+
+/// Stages `state` and kinematics: the joints' and panels' coordinates from (q, v, a, t) (a may be
+/// null: zero accelerations) and the bodies' motion, into d.
+void forward_kinematics(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                        const Eigen::VectorXd* a, double t);
+
+}  // namespace deployfx::multibody

@@ -1,0 +1,143 @@
+#include "deployfx/multibody/momentum.hpp"
+
+#include "deployfx/multibody/seeds.hpp"
+
+namespace deployfx::multibody {
+namespace {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+// A body's momentum (p; h about its origin, its axes) to W: (R p; o x (R p) + R h).
+template <class S>
+Vector6<S> to_world(const Matrix3<S>& R, const Vector3<S>& o, const Vector6<S>& p) {
+  Vector6<S> out;
+  out.template head<3>() = R * p.template head<3>();
+  out.template tail<3>() = o.cross(Vector3<S>(out.template head<3>())) + R * p.template tail<3>();
+  return out;
+}
+
+// Body k's momentum as ME (V; w) + e: ME its spatial inertia at the staged d (rigid parts and
+// panel: [m I, -s~; s~, J(d)]), e the panel's elastic part (S1 d'; H(d) d').
+Matrix6d spatial_inertia(const Model& m, Data& d, int k, Vector6<double>* e) {
+  const Body& b = m.body(k);
+  Matrix6d ME = b.rigid.spatial();
+  e->setZero();
+  if (!b.panel) return ME;
+  const body::FloatingFrameInertia& ffi = b.panel->inertia();
+  const PanelState& s = d.elastic[k];
+  auto* memo = &d.panels[k].products;
+  const Eigen::Matrix3d S = skew(ffi.first_moment(s.d));
+  ME.topLeftCorner<3, 3>() += ffi.mass() * Eigen::Matrix3d::Identity();
+  ME.block<3, 3>(0, 3) -= S;
+  ME.block<3, 3>(3, 0) += S;
+  ME.bottomRightCorner<3, 3>() += ffi.inertia_tensor(s.d, memo);
+  *e << ffi.S1() * s.dd, ffi.rotation_coupling(s.d, memo) * s.dd;
+  return ME;
+}
+
+Vector6<double> velocity(const BodyMotion<double>& C) {
+  Vector6<double> nu;
+  nu << C.V, C.w;
+  return nu;
+}
+
+}  // namespace
+
+Vector6<double> body_momentum(const Model& m, Data& d, int k) {
+  Vector6<double> e;
+  const Matrix6d ME = spatial_inertia(m, d, k, &e);
+  return ME * velocity(d.motion.body[k]) + e;
+}
+
+Vector6<double> base_momentum(const Model& m, const Data& d) {
+  if (!m.base_free()) return Vector6<double>::Zero();
+  const BaseMotion<double>& b = d.motion.base;
+  return to_world<double>(b.R_WB, b.r_W, m.spec().base.inertia.momentum(b.V_B, b.w_B));
+}
+
+Eigen::VectorXd momentum(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  forward_kinematics(m, d, q, v, nullptr, d.t);
+  Vector6<double> Pi = base_momentum(m, d);
+  for (int k = 0; k < m.num_hinges(); ++k) {
+    const BodyMotion<double>& C = d.motion.body[k];
+    Pi += to_world<double>(C.R_WC, C.o_W, body_momentum(m, d, k));
+  }
+  return Pi;
+}
+
+Eigen::MatrixXd momentum_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                  double c_v, double c_q) {
+  forward_kinematics(m, d, q, v, nullptr, d.t);
+  const int N = m.num_hinges();
+  std::vector<Matrix6d> ME(N);
+  std::vector<Vector6<double>> p(N);
+  for (int k = 0; k < N; ++k) {
+    Vector6<double> e;
+    ME[k] = spatial_inertia(m, d, k, &e);
+    p[k] = ME[k] * velocity(d.motion.body[k]) + e;
+  }
+  const Matrix6d Mb = m.spec().base.inertia.spatial();
+  const BaseMotion<double>& b0 = d.motion.base;
+  Vector6<double> pb;
+  pb << b0.V_B, b0.w_B;
+  pb = (Mb * pb).eval();
+
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6, m.num_velocities());
+  // Border and attachment coordinates: derivative passes of the kinematics (no accelerations).
+  std::vector<int> att_start;
+  const std::vector<Seed> seeds = derivative_seeds(m, &att_start);
+  BaseMotion<Dual> base;
+  std::vector<JointState<Dual>> joints;
+  TreeMotion<Dual> motion;
+  Eigen::MatrixXd T(6, static_cast<Eigen::Index>(seeds.size()));
+  for (std::size_t col = 0; col < seeds.size(); ++col) {
+    seeded_state(m, d, seeds[col], c_q, c_v, 0.0, base, joints);
+    forward_kinematics<Dual>(m, base, joints, motion);
+    Vector6<Dual> Pi = Vector6<Dual>::Zero();
+    if (m.base_free()) {
+      Vector6<double> nu;
+      nu << tangent(base.V_B), tangent(base.w_B);
+      Pi += to_world<Dual>(base.R_WB, base.r_W, dual(pb, Vector6<double>(Mb * nu)));
+    }
+    for (int k = 0; k < N; ++k) {
+      const BodyMotion<Dual>& C = motion.body[k];
+      Vector6<double> nu;
+      nu << tangent(C.V), tangent(C.w);
+      Pi += to_world<Dual>(C.R_WC, C.o_W, dual(p[k], Vector6<double>(ME[k] * nu)));
+    }
+    T.col(static_cast<Eigen::Index>(col)) = tangent(Pi);
+  }
+  J.leftCols(m.border()) = T.leftCols(m.border());
+  for (int k = 0; k < N; ++k) {
+    const Body& b = m.body(k);
+    if (!b.attachment) continue;
+    const Eigen::MatrixXd Jz = T.middleCols(att_start[k], 6) * b.attachment->P_cols;
+    const Body& parent = m.body(b.parent);
+    for (std::size_t i = 0; i < b.attachment->cols.size(); ++i)
+      J.col(parent.iv_el + b.attachment->cols[i]) += Jz.col(static_cast<Eigen::Index>(i));
+  }
+  // Each panel's own coordinates: d(p, h)/d(eta', eta) = c_v (S1, H(d)) + c_q (w~ S1,
+  // -V~ S1 + d(J(d) w)/dd + d(H(d) d')/dd), carried to W.
+  for (int k : m.panels()) {
+    const Body& b = m.body(k);
+    const body::FloatingFrameInertia& ffi = b.panel->inertia();
+    const PanelState& s = d.elastic[k];
+    const BodyMotion<double>& C = d.motion.body[k];
+    auto* memo = &d.panels[k].products;
+    const auto& S1 = ffi.S1();
+    const Eigen::MatrixXd dp = c_v * S1 + c_q * skew(C.w) * S1;
+    const Eigen::MatrixXd dh = c_v * ffi.rotation_coupling(s.d, memo) +
+                               c_q * (-skew(C.V) * S1 + ffi.inertia_tensor_jacobian(s.d, C.w, memo) +
+                                      ffi.rotation_coupling_jacobian(s.dd, memo));
+    const Eigen::MatrixXd dP = C.R_WC * dp;
+    const Eigen::MatrixXd dH = skew(C.o_W) * dP + C.R_WC * dh;
+    const std::vector<int>& free = b.panel->free_dofs();
+    for (int i = 0; i < b.n_el; ++i) {
+      J.block<3, 1>(0, b.iv_el + i) += dP.col(free[i]);
+      J.block<3, 1>(3, b.iv_el + i) += dH.col(free[i]);
+    }
+  }
+  return J;
+}
+
+}  // namespace deployfx::multibody

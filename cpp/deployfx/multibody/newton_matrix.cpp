@@ -1,0 +1,210 @@
+#include "deployfx/multibody/newton_matrix.hpp"
+
+#include <algorithm>
+
+#include "deployfx/body/rigid_force_jacobian.hpp"
+#include "deployfx/multibody/forces.hpp"
+#include "deployfx/multibody/seeds.hpp"
+
+namespace deployfx::multibody {
+namespace {
+
+using Matrix69 = Eigen::Matrix<double, 6, 9>;
+
+Eigen::MatrixXd free_rows(const Eigen::MatrixXd& X, const std::vector<int>& free) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(free.size()), X.cols());
+  for (std::size_t i = 0; i < free.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = X.row(free[i]);
+  return out;
+}
+
+Eigen::MatrixXd free_cols(const Eigen::MatrixXd& X, const std::vector<int>& free) {
+  Eigen::MatrixXd out(X.rows(), static_cast<Eigen::Index>(free.size()));
+  for (std::size_t i = 0; i < free.size(); ++i) out.col(static_cast<Eigen::Index>(i)) = X.col(free[i]);
+  return out;
+}
+
+// The attachments a wrench at body j passes on its way to the base: j's and its ancestors'.
+std::vector<int> attachments_above(const Model& m, int j) {
+  std::vector<int> out;
+  if (m.body(j).attachment) out.push_back(j);
+  for (int a : m.body(j).ancestors)
+    if (m.body(a).attachment) out.push_back(a);
+  return out;
+}
+
+}  // namespace
+
+integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                     const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q) {
+  forward_kinematics(m, d, q, v, &a, t);
+  const int N = m.num_hinges(), nb = m.border(), ne = m.elastic();
+
+  // 1. Each body's wrench and its derivatives in its motion (a, al, w); the hinges' torques.
+  std::vector<Vector6<double>> f(N);
+  std::vector<Matrix69> G(N);
+  std::vector<body::FloatingFrameInertia::ForceJacobians> fj(N);
+  for (int k = 0; k < N; ++k) {
+    const Body& b = m.body(k);
+    const BodyMotion<double>& C = d.motion.body[k];
+    f[k] = b.rigid.inertial_forces(C.a, C.al, C.w);
+    G[k] = body::rigid_force_jacobian(b.rigid, C.w);
+    if (!b.panel) continue;
+    const PanelState& s = d.elastic[k];
+    fj[k] = b.panel->inertia().inertial_force_jacobians(C.a, C.al, C.w, s.d, s.dd, s.ddd, &d.panels[k].products);
+    f[k].head<3>() += fj[k].f.F;
+    f[k].tail<3>() += fj[k].f.M;
+    G[k] += fj[k].FM_k;
+  }
+  Vector6<double> fb = Vector6<double>::Zero();
+  Matrix69 Gb = Matrix69::Zero();
+  if (m.base_free()) {
+    fb = base_inertial_wrench(m, d);
+    Gb = body::rigid_force_jacobian(m.spec().base.inertia, d.motion.base.w_B);
+  }
+  std::vector<HingeTorque> torque(N);
+  for (int k = 0; k < N; ++k)
+    if (m.body(k).iv_theta >= 0) torque[k] = hinge_torque(m, d, k);
+
+  // 2. The derivative passes (seeds.hpp): the border rows' tangents BR, each panel's motion
+  // tangent T9 = d(a, al, w) and each attachment's generalized force's tangent TZ, per column.
+  std::vector<int> att_start;
+  const std::vector<Seed> seeds = derivative_seeds(m, &att_start);
+  const int nc = static_cast<int>(seeds.size());
+  Eigen::MatrixXd BR = Eigen::MatrixXd::Zero(nb, nc);
+  std::vector<Eigen::Matrix<double, 9, Eigen::Dynamic>> T9(N);
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> TZ(N);
+  for (int k : m.panels()) T9[k].resize(9, nc);
+  for (int k = 0; k < N; ++k)
+    if (m.body(k).attachment) TZ[k].resize(6, nc);
+  BaseMotion<Dual> base;
+  std::vector<JointState<Dual>> joints;
+  TreeMotion<Dual> motion;
+  Wrenches<Dual> W;
+  std::vector<Vector6<Dual>> fd(N);
+  for (int col = 0; col < nc; ++col) {
+    seeded_state(m, d, seeds[col], c_q, c_v, c_a, base, joints);
+    forward_kinematics<Dual>(m, base, joints, motion);
+    for (int k = 0; k < N; ++k) {
+      const BodyMotion<Dual>& C = motion.body[k];
+      const Eigen::Matrix<double, 9, 1> t9 = motion_tangent(C.a, C.al, C.w);
+      fd[k] = dual(f[k], Vector6<double>(G[k] * t9));
+      if (m.body(k).panel) T9[k].col(col) = t9;
+    }
+    backward_pass<Dual>(m, motion, fd, W);
+    if (m.base_free()) {
+      const Vector6<Dual> fbd = dual(fb, Vector6<double>(Gb * motion_tangent(base.a_B, base.wd_B, base.w_B))) + W.root;
+      BR.block<3, 1>(0, col) = tangent(Vector3<Dual>(base.R_WB * fbd.head<3>()));
+      BR.block<3, 1>(3, col) = tangent(Vector3<Dual>(fbd.tail<3>()));
+    }
+    for (int k = 0; k < N; ++k) {
+      const Body& b = m.body(k);
+      if (b.iv_theta >= 0)
+        BR(b.iv_theta, col) = W.hinge[k].d - (torque[k].d_theta * joints[k].theta.d + torque[k].d_rate * joints[k].rate.d);
+      if (b.attachment) TZ[k].col(col) = tangent(W.attach[k]);
+    }
+  }
+  // The elastic rows' tangents (ne x nc): each panel's dQ/d(a, al, w) T9 and the attachments' P^T TZ.
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(ne, nc);
+  for (int k : m.panels()) {
+    const Body& b = m.body(k);
+    Y.middleRows(b.ie, b.n_el) = free_rows(fj[k].Q_k, b.panel->free_dofs()) * T9[k];
+  }
+  for (int k = 0; k < N; ++k) {
+    const Body& b = m.body(k);
+    if (!b.attachment) continue;
+    const int p = m.body(b.parent).ie;
+    for (std::size_t i = 0; i < b.attachment->cols.size(); ++i)
+      Y.row(p + b.attachment->cols[i]) += b.attachment->P_cols.col(static_cast<Eigen::Index>(i)).transpose() * TZ[k];
+  }
+
+  integrate::BlockMatrix S;
+  S.A = BR.leftCols(nb);
+  S.C = Y.leftCols(nb);
+  S.B = Eigen::MatrixXd::Zero(nb, ne);
+  if (ne == 0) {
+    S.E.resize(0, 0);
+    return S;
+  }
+  const ElasticPattern& pattern = m.pattern();
+  Eigen::VectorXd Ev;
+  if (!pattern.identity) Ev = Eigen::VectorXd::Zero(pattern.matrix.nonZeros());
+
+  // 3. The attachment columns, into the parent panel's coordinates through z = P eta.
+  for (int k = 0; k < N; ++k) {
+    const Body& b = m.body(k);
+    if (!b.attachment) continue;
+    const Attachment& att = *b.attachment;
+    const int p = m.body(b.parent).ie;
+    const Eigen::MatrixXd Bz = BR.middleCols(att_start[k], 6) * att.P_cols;
+    const Eigen::MatrixXd Ez = Y.middleCols(att_start[k], 6) * att.P_cols;
+    for (std::size_t i = 0; i < att.cols.size(); ++i) S.B.col(p + att.cols[i]) += Bz.col(static_cast<Eigen::Index>(i));
+    const ElasticPattern::Coupling& cp = *pattern.couplings[k];
+    for (std::size_t r = 0; r < cp.rows.size(); ++r)
+      for (std::size_t j = 0; j < cp.cols.size(); ++j)
+        Ev(cp.slots_RA(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(j))) +=
+            Ez(cp.rows[r], static_cast<Eigen::Index>(j));
+  }
+
+  // 4. Each panel's own coordinates: its wrench's derivatives carried up by the backward pass's
+  // linear map (a unit wrench at body j to the border rows and the attachments above j), and its
+  // elastic block.
+  std::vector<Vector6<double>> unit(N);
+  Wrenches<double> Wu;
+  for (int j : m.panels()) {
+    const Body& b = m.body(j);
+    const auto& F = fj[j];
+    const std::vector<int>& free = b.panel->free_dofs();
+    const Eigen::MatrixXd FMe = free_cols(c_a * F.FM_ddd + c_v * F.FM_dd + c_q * F.FM_d, free);
+    const std::vector<int> above = attachments_above(m, j);
+    Eigen::Matrix<double, Eigen::Dynamic, 6> Lb = Eigen::MatrixXd::Zero(nb, 6);
+    std::vector<Eigen::Matrix<double, 6, 6>> Lz(above.size());
+    for (int i = 0; i < 6; ++i) {
+      std::fill(unit.begin(), unit.end(), Vector6<double>::Zero());
+      unit[j](i) = 1.0;
+      backward_pass<double>(m, d.motion, unit, Wu);
+      if (m.base_free()) {
+        Lb.block<3, 1>(0, i) = d.motion.base.R_WB * Wu.root.head<3>();
+        Lb.block<3, 1>(3, i) = Wu.root.tail<3>();
+      }
+      for (int k = 0; k < N; ++k)
+        if (m.body(k).iv_theta >= 0) Lb(m.body(k).iv_theta, i) = Wu.hinge[k];
+      for (std::size_t c = 0; c < above.size(); ++c) Lz[c].col(i) = Wu.attach[above[c]];
+    }
+    S.B.middleCols(b.ie, b.n_el) += Lb * FMe;
+    for (std::size_t c = 0; c < above.size(); ++c) {
+      const Attachment& att = *m.body(above[c]).attachment;
+      const ElasticPattern::Coupling& cp = *pattern.couplings[above[c]];
+      const Eigen::MatrixXd Mz = att.P_cols.transpose() * (Lz[c] * FMe);
+      const auto first = std::lower_bound(cp.rows.begin(), cp.rows.end(), b.ie) - cp.rows.begin();
+      for (Eigen::Index i = 0; i < Mz.rows(); ++i)
+        for (int jj = 0; jj < b.n_el; ++jj) Ev(cp.slots_AR(i, first + jj)) += Mz(i, jj);
+    }
+
+    // Elastic block: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) + G_w(w) + K_T) and damping, with
+    // G_y(x) = sum_i x_j M_ik - x_k M_ij (i, j, k cyclic) and G_w(w) = sum w_i w_l M_il - |w|^2 M_ii,
+    // summed as c_a L_c + sum_im c_im M_im over each M_im's own nonzeros (FlexibleBody::mass_combination).
+    const BodyMotion<double>& C = d.motion.body[j];
+    const Eigen::Vector3d x = 2 * c_v * C.w + c_q * C.al;
+    Eigen::Matrix3d cm = c_q * (C.w * C.w.transpose() - C.w.squaredNorm() * Eigen::Matrix3d::Identity());
+    for (int i = 0; i < 3; ++i) {
+      const int jn = (i + 1) % 3, l = (i + 2) % 3;
+      cm(i, l) += x(jn);
+      cm(i, jn) -= x(l);
+    }
+    Eigen::VectorXd vals = b.panel->mass_combination(c_a, cm);
+    b.panel->add_elastic_block(d.elastic[j].d, c_v, c_q, vals, &d.panels[j]);  // K_T (or K_L), damping
+    if (pattern.identity) {
+      S.E = b.panel->block().with_values(vals);
+    } else {
+      const std::vector<int>& slots = pattern.body_slots[j];
+      for (std::size_t i = 0; i < slots.size(); ++i) Ev(slots[i]) += vals(static_cast<Eigen::Index>(i));
+    }
+  }
+  if (!pattern.identity) {
+    S.E = pattern.matrix;
+    std::copy(Ev.data(), Ev.data() + Ev.size(), S.E.valuePtr());
+  }
+  return S;
+}
+
+}  // namespace deployfx::multibody

@@ -1,0 +1,25 @@
+#pragma once
+// The Newton iteration matrix of an implicit scheme, S = c_a dr/dvdot + c_v dr/dv + c_q dr/dq
+// (dr/dq along Model::retract), analytic for every fidelity and topology:
+// - the border columns (base, hinge angles) and the attachment coordinates z of each hinge on a
+//   panel: the residual's passes (kinematics.hpp) run on Duals seeded along that coordinate
+//   (seeds.hpp), with each body's force differentiated in closed form in its motion (a, al, w)
+//   (FloatingFrameInertia::inertial_force_jacobians, body/rigid_force_jacobian.hpp) and the
+//   lock's law in (theta, theta') (joint/hinge_lock); a z column reaches the parent panel's
+//   coordinates through z = P eta;
+// - each panel's own coordinates: its elastic block c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) +
+//   G_w(w) + K_T) with damping (docs/engine-design.md), and its wrench's derivatives in
+//   (eta'', eta', eta) carried to the rows above it by the backward pass's linear map.
+// The result is bordered: [A B; C E], A the border, E sparse on Model::pattern().
+#include <Eigen/Core>
+
+#include "deployfx/integrate/block_matrix.hpp"
+#include "deployfx/multibody/data.hpp"
+
+namespace deployfx::multibody {
+
+/// S at (q, v, a, t) with the coefficients (c_a, c_v, c_q); stages the kinematics in d.
+integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                     const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q);
+
+}  // namespace deployfx::multibody

@@ -1,0 +1,42 @@
+#include "deployfx/multibody/residual.hpp"
+
+#include "deployfx/multibody/forces.hpp"
+
+namespace deployfx::multibody {
+
+Eigen::VectorXd residual(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                         const Eigen::VectorXd& a, double t) {
+  forward_kinematics(m, d, q, v, &a, t);
+  const int N = m.num_hinges();
+  std::vector<Vector6<double>> f(static_cast<std::size_t>(N));
+  std::vector<Eigen::VectorXd> Q(static_cast<std::size_t>(N));
+  for (int k = 0; k < N; ++k) f[k] = inertial_wrench(m, d, k, &Q[k]);
+  Wrenches<double> W;
+  backward_pass<double>(m, d.motion, std::move(f), W);
+
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(m.num_velocities());
+  if (m.base_free()) {
+    const Vector6<double> fb = base_inertial_wrench(m, d) + W.root;
+    r.head<3>() = d.motion.base.R_WB * fb.head<3>();
+    r.segment<3>(3) = fb.tail<3>();
+  }
+  for (int k = 0; k < N; ++k) {
+    const Body& b = m.body(k);
+    if (b.iv_theta >= 0) r(b.iv_theta) = W.hinge[k] - hinge_torque(m, d, k).tau;
+    if (b.attachment) {  // the subtree's generalized force on the parent's coordinates
+      const Body& p = m.body(b.parent);
+      for (std::size_t c = 0; c < b.attachment->cols.size(); ++c)
+        r(p.iv_el + b.attachment->cols[c]) += b.attachment->P_cols.col(static_cast<Eigen::Index>(c)).dot(W.attach[k]);
+    }
+  }
+  for (int k : m.panels()) {
+    const Body& b = m.body(k);
+    const std::vector<int>& free = b.panel->free_dofs();
+    for (int i = 0; i < b.n_el; ++i) r(b.iv_el + i) += Q[k](free[i]);
+    PanelState& s = d.elastic[k];
+    b.panel->add_elastic_force(s.q, s.v, s.d, s.dd, r.segment(b.iv_el, b.n_el), &d.panels[k]);
+  }
+  return r;
+}
+
+}  // namespace deployfx::multibody

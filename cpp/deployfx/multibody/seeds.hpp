@@ -1,0 +1,39 @@
+#pragma once
+// The derivative passes of the Newton matrix and the momentum Jacobian: each runs the kinematics
+// (kinematics.hpp) on Duals seeded along one direction (dq, dv, dvdot) = (c_q, c_v, c_a) e of
+// one coordinate: a border coordinate (the base's six, each undriven hinge angle) or one of the
+// six attachment coordinates z of a hinge on a panel (attachment.hpp), which the parent panel's
+// coordinates move through z = P eta. Its tangent is that coordinate's column, c_a d/dvdot +
+// c_v d/dv + c_q d/dq, of whatever the pass computes. The panels' own coordinates enter only
+// their own body's forces and are differentiated in closed form instead.
+#include <vector>
+
+#include "deployfx/multibody/data.hpp"
+#include "deployfx/multibody/dual_seed.hpp"
+
+namespace deployfx::multibody {
+
+struct Seed {
+  enum Kind { kBase, kHinge, kAttachment } kind;
+  int index;      ///< base coordinate (0-2: v_W, 3-5: w_B) or hinge k
+  int component;  ///< attachment coordinate z_m, m in 0..5
+};
+
+/// The border coordinates in the velocity ordering (base, then undriven hinges), then six per
+/// hinge on a panel, in hinge order. `attachment_start[k]`: the first of hinge k's (-1: none).
+std::vector<Seed> derivative_seeds(const Model& m, std::vector<int>* attachment_start);
+
+/// The state of Data (staged by forward_kinematics) on Duals, seeded along `s` with the
+/// coefficients (c_q, c_v, c_a); the base's attitude moves along retract(), R_WB exp(dpsi~).
+void seeded_state(const Model& m, const Data& d, const Seed& s, double c_q, double c_v, double c_a,
+                  BaseMotion<Dual>& base, std::vector<JointState<Dual>>& joints);
+
+/// (a, al, w) of a body frame on Duals: their tangent, stacked (9).
+inline Eigen::Matrix<double, 9, 1> motion_tangent(const Vector3<Dual>& a, const Vector3<Dual>& al,
+                                                  const Vector3<Dual>& w) {
+  Eigen::Matrix<double, 9, 1> t;
+  t << tangent(a), tangent(al), tangent(w);
+  return t;
+}
+
+}  // namespace deployfx::multibody

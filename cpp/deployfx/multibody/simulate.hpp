@@ -1,0 +1,34 @@
+#pragma once
+// A run: generalized-alpha (integrate/generalized_alpha.hpp) with the stepper of
+// integrate/trajectory.hpp on one model and one run's Data, from (q0, v0) at t = 0. The only run
+// loop of the engine; the bindings add the GIL, Ctrl-C and the progress bar around it.
+#include <Eigen/Core>
+
+#include "deployfx/integrate/generalized_alpha.hpp"
+#include "deployfx/integrate/trajectory.hpp"
+#include "deployfx/multibody/data.hpp"
+
+namespace deployfx::multibody {
+
+struct RunOptions {
+  double t_end = 0;   ///< s
+  double dt = 0;      ///< output step (and the fixed step), s
+  integrate::AlphaParameters scheme = integrate::AlphaParameters::generalized_alpha(0.8);
+  bool reuse_jacobian = true;
+  double tolerance = 0;  ///< m or rad; 0: fixed steps
+};
+
+struct RunResult {
+  integrate::Trajectory trajectory;
+  long factorizations = 0;  ///< of the Newton matrix
+};
+
+/// Runs from (q0, v0) with d's lock histories reset; `record(state)` at each recorded time
+/// (after the history was updated), `poll(t)` after every step (see integrate::run). Throws
+/// std::invalid_argument for bad options or a state of the wrong size; a run that fails ends
+/// early with `trajectory.failure` saying when and why.
+RunResult simulate(const Model& m, Data& d, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+                   const RunOptions& options, const integrate::Observer& record = {},
+                   const integrate::Poll& poll = {});
+
+}  // namespace deployfx::multibody

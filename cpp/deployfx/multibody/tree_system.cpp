@@ -1,0 +1,44 @@
+#include "deployfx/multibody/tree_system.hpp"
+
+#include "deployfx/multibody/events.hpp"
+#include "deployfx/multibody/momentum.hpp"
+#include "deployfx/multibody/newton_matrix.hpp"
+#include "deployfx/multibody/residual.hpp"
+
+namespace deployfx::multibody {
+
+TreeSystem::TreeSystem(const Model& m, Data& d) : m_(m), d_(d) { check_data(m, d); }
+
+Eigen::VectorXd TreeSystem::residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
+                                     double t) {
+  return multibody::residual(m_, d_, q, v, a, t);
+}
+
+integrate::BlockMatrix TreeSystem::iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                                    const Eigen::VectorXd& a, double t, double c_a, double c_v,
+                                                    double c_q) {
+  return newton_matrix(m_, d_, q, v, a, t, c_a, c_v, c_q);
+}
+
+Eigen::VectorXd TreeSystem::momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  return multibody::momentum(m_, d_, q, v);
+}
+
+Eigen::MatrixXd TreeSystem::momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
+                                              double c_q) {
+  return multibody::momentum_jacobian(m_, d_, q, v, c_v, c_q);
+}
+
+Eigen::VectorXd TreeSystem::gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double) {
+  return lock_events(m_, d_, q, v);
+}
+
+void TreeSystem::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double, const Eigen::VectorXd& margin) {
+  multibody::accept(m_, d_, q, v, margin);
+}
+
+double TreeSystem::newton_step_limit(const Eigen::VectorXd&, const Eigen::VectorXd& v, const Eigen::VectorXd& dv) {
+  return friction_step_limit(m_, d_, v, dv);
+}
+
+}  // namespace deployfx::multibody

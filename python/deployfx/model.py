@@ -1,0 +1,450 @@
+"""The compiled scene: one :class:`Model` for every scene (one hinge, a chain, a tree of two
+wings), immutable and shareable between runs and threads; ``simulate`` runs it and returns a
+:class:`~deployfx.results.Result` with one series vocabulary (documented in
+:mod:`deployfx.results`).
+
+A run's mutable state lives in a data object (``Model.make_data()``, the engine's
+``multibody::Data``: lock histories, memos, the staged kinematics), one per run: several threads
+may simulate one Model at once and get the same bits as serial runs.
+
+Coordinates (``q``, ``v``): a free base's position r_W (m) and unit quaternion (w, x, y, z) of
+R_WB (velocities v_W in W axes, w_B in B axes), the undriven hinges' angles (rad: the travel from
+stowed) in hinge order, then each deforming panel's elastic coordinates in hinge order (its free
+mesh dofs, m and rad, or its Ritz coordinates, kg^0.5 m): ``Model.layout(k)`` says where.
+"""
+from __future__ import annotations
+
+import datetime
+from dataclasses import dataclass, field
+from typing import Callable, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _core
+from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg
+from .integrators import GeneralizedAlpha
+from .plate import ShellModel
+from .results import Result
+from .specs import Fidelity, Link, RigidPart
+
+__all__ = ["Model", "SERIES_UNITS"]
+
+#: Units of the series every run records (see :mod:`deployfx.results` for their meaning); H is
+#: the number of hinges.
+SERIES_UNITS = {
+    "t": "s",
+    "deployment_angle": "deg", "deployment_rate": "deg/s", "spring_torque": "N m", "lock_force": "N",
+    "lock_torque": "N m", "latched": "1", "hinge_force": "N", "hinge_moment": "N m", "strain_energy": "J",
+    "tip_displacement": "m", "tip_deflection": "m",
+    "body_attitude": "deg", "total_angular_momentum": "N m s", "body_angular_momentum": "N m s",
+    "total_linear_momentum": "N s", "body_linear_momentum": "N s", "kinetic_energy": "J", "potential_energy": "J",
+    "q": "m, rad, kg^0.5 m (base position and quaternion, hinge angles, elastic coordinates: Model.layout)",
+    "v": "m/s, rad/s (base velocity in W, angular velocity in B, hinge rates, elastic rates)",
+}
+
+
+def _version() -> str:
+    from . import __version__
+
+    return __version__
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """A compiled scene (``Scene.compile()``): immutable, reusable for many runs, shareable
+    between threads. ``links`` are the scene's hinges as compiled (:class:`~deployfx.specs.Link`)."""
+
+    core: _core.Model = field(repr=False)
+    base_free: bool
+    links: tuple = field(repr=False)
+    description: dict = field(default_factory=dict)
+    #: Per hinge: the tip node of its panel (the node farthest from the hinge axis; among equals the
+    #: one nearest the axis' foot, the free edge's middle), -1 without a panel.
+    tip_nodes: tuple = ()
+    #: Per hinge: the unit direction (C_k axes) in which the hinge's rotation moves the tip node;
+    #: the tip deflection is the tip's elastic displacement along it (negative: lagging).
+    tip_directions: tuple = field(default=(), repr=False)
+    _tip_rows: tuple = field(default=(), repr=False)
+
+    # ---------------------------------------------------------------------------- the scene
+    @property
+    def num_hinges(self) -> int:
+        return len(self.links)
+
+    @property
+    def shells(self) -> tuple:
+        """Per hinge: its panel's :class:`~deployfx.ShellModel` (nodes in C_k, m), or None."""
+        return tuple(None if L.appendage is None else L.appendage.shell for L in self.links)
+
+    @property
+    def fidelities(self) -> tuple:
+        """Per hinge: its panel's :class:`~deployfx.specs.Fidelity`, or None without a panel."""
+        return tuple(None if L.appendage is None else L.appendage.fidelity for L in self.links)
+
+    @property
+    def deforming(self) -> tuple:
+        """Per hinge: True if its body is a deforming panel (has elastic coordinates)."""
+        return tuple(self.layout(k)["num_elastic"] > 0 for k in range(self.num_hinges))
+
+    @property
+    def locks(self) -> tuple:
+        """Per hinge: True if it has a lock."""
+        return tuple(L.lock is not None for L in self.links)
+
+    @property
+    def lock_play_deg(self) -> tuple:
+        """Per hinge: its lock's free play once latched (deg), None without a lock."""
+        return tuple(None if L.lock is None else L.lock.play_deg for L in self.links)
+
+    @property
+    def conservative(self) -> bool:
+        """No prescribed hinge angle: nothing can add energy, so energy growth is a numerical
+        failure and ``simulate`` reports it."""
+        return all(L.hinge.spin_up is None for L in self.links)
+
+    @property
+    def num_positions(self) -> int:
+        return self.core.num_positions
+
+    @property
+    def num_velocities(self) -> int:
+        return self.core.num_velocities
+
+    def _hinge(self, hinge, panel: bool = False) -> int:
+        if hinge is None:
+            candidates = [k for k in range(self.num_hinges) if not panel or self.shells[k] is not None]
+            if len(candidates) != 1:
+                what = "panels" if panel else "hinges"
+                raise ValueError(f"hinge is required: the model has {len(candidates)} {what} "
+                                 f"({candidates if panel else self.num_hinges})")
+            return candidates[0]
+        if isinstance(hinge, bool) or not isinstance(hinge, (int, np.integer)):
+            raise TypeError(f"hinge must be a hinge index (int), got {type(hinge).__name__}")
+        if not 0 <= hinge < self.num_hinges:
+            raise ValueError(f"hinge = {hinge} is out of range: must be in [0, {self.num_hinges - 1}]")
+        if panel and self.shells[hinge] is None:
+            raise ValueError(f"hinge = {hinge} carries no panel (Scene.set_appendage(..., hinge={hinge}))")
+        return int(hinge)
+
+    def layout(self, hinge: int) -> dict:
+        """Hinge k's coordinates: ``parent`` (-1: the base), ``iq_theta``/``iv_theta`` (its angle in
+        q and v; -1 when prescribed), ``num_elastic``, ``iq_elastic``/``iv_elastic`` (its panel's
+        elastic coordinates), ``attachment_node`` (the parent panel's node it rides on, or -1)."""
+        return self.core.layout(self._hinge(hinge))
+
+    def basis(self, hinge: Optional[int] = None) -> Optional[np.ndarray]:
+        """A reduced panel's Ritz basis, mesh dofs = ``basis @ eta`` ((6 nodes x r), M-orthonormal:
+        eta in kg^0.5 m); None for any other body."""
+        k = self._hinge(hinge, panel=True)
+        return self.core.displacement_map(k) if self.fidelities[k].reduced else None
+
+    def basis_info(self, hinge: Optional[int] = None) -> Optional[dict]:
+        """A reduced panel's basis: ``modes``, ``static_corrections`` and ``modal_derivatives``
+        proposed, the ``size`` kept and its Ritz values ``omega2`` ((rad/s)^2); None otherwise."""
+        return self.core.basis_info(self._hinge(hinge, panel=True))
+
+    # ------------------------------------------------------------------- post-processing q
+    def _q(self, q) -> np.ndarray:
+        q = np.atleast_2d(np.asarray(q, dtype=float))
+        if q.ndim != 2 or q.shape[1] != self.num_positions:
+            raise ValueError(f"q has shape {q.shape}: this model has {self.num_positions} coordinates per sample "
+                             f"(was it recorded by another model?)")
+        return q
+
+    def mesh_displacements(self, q, hinge: Optional[int] = None) -> np.ndarray:
+        """Hinge ``hinge``'s panel: every mesh dof's displacement (m, rad; 6 per node, C_k axes)
+        at each recorded ``q``, shape (n, 6 nodes); zeros for a rigid panel."""
+        k = self._hinge(hinge, panel=True)
+        q = self._q(q)
+        lay = self.core.layout(k)
+        n = lay["num_elastic"]
+        ndof = self.shells[k].num_dofs
+        if n == 0:
+            return np.zeros((len(q), ndof))
+        return q[:, lay["iq_elastic"]:lay["iq_elastic"] + n] @ self.core.displacement_map(k).T
+
+    def node_displacements(self, q, hinge: Optional[int] = None, nodes: Optional[Sequence[int]] = None) -> np.ndarray:
+        """Node translations (m, C_k axes) of hinge ``hinge``'s panel at each recorded ``q``,
+        shape (n, len(nodes), 3) (``nodes`` None: all of them)."""
+        k = self._hinge(hinge, panel=True)
+        q = self._q(q)
+        n_nodes = self.shells[k].num_dofs // 6
+        idx = np.arange(n_nodes) if nodes is None else np.asarray(nodes, dtype=int)
+        if idx.size and (idx.min() < 0 or idx.max() >= n_nodes):
+            raise ValueError(f"nodes must lie in [0, {n_nodes}) (the panel's nodes)")
+        lay = self.core.layout(k)
+        if lay["num_elastic"] == 0:
+            return np.zeros((len(q), idx.size, 3))
+        rows = (6 * idx[:, None] + np.arange(3)[None]).ravel()
+        D = self.core.displacement_map(k)[rows]
+        eta = q[:, lay["iq_elastic"]:lay["iq_elastic"] + lay["num_elastic"]]
+        return (eta @ D.T).reshape(len(q), idx.size, 3)
+
+    def frames(self, q, t=None) -> tuple[np.ndarray, np.ndarray]:
+        """Every body frame C_k in W at each recorded ``q`` (and time ``t``, for prescribed
+        hinges): axes ``R_WC`` (n, H, 3, 3) (column j = C_k's axis j in W) and origins ``o_W``
+        (n, H, 3), m, from the engine's kinematics (a hinge on a panel rides on its deformed mesh)."""
+        q = self._q(q)
+        t = np.zeros(len(q)) if t is None else np.broadcast_to(np.asarray(t, dtype=float), (len(q),))
+        return self.core.frames(q, np.ascontiguousarray(t))
+
+    def base_poses(self, q) -> tuple[np.ndarray, np.ndarray]:
+        """The base's position ``r_W`` (m, (n, 3)) and attitude ``R_WB`` ((n, 3, 3)) at each ``q``;
+        zero and identity for a fixed base."""
+        q = self._q(q)
+        if not self.base_free:
+            return np.zeros((len(q), 3)), np.broadcast_to(np.eye(3), (len(q), 3, 3)).copy()
+        from scipy.spatial.transform import Rotation
+
+        return q[:, :3].copy(), Rotation.from_quat(q[:, [4, 5, 6, 3]]).as_matrix()
+
+    def world_points(self, q, hinge: Optional[int] = None, t=None, scale: float = 1.0) -> np.ndarray:
+        """Hinge ``hinge``'s panel nodes in W (m), (n, nodes, 3): the mesh plus ``scale`` times its
+        elastic displacement (1: the true shape; 0: undeformed), placed by :meth:`frames`."""
+        k = self._hinge(hinge, panel=True)
+        scale = float(scale)
+        if not np.isfinite(scale):
+            raise ValueError(f"scale = {scale} must be finite")
+        R, o = self.frames(q, t)
+        X = np.asarray(self.shells[k].nodes, dtype=float)[None] + scale * self.node_displacements(q, k)
+        return o[:, k, None, :] + np.einsum("kij,knj->kni", R[:, k], X)
+
+    # --------------------------------------------------------------------- the engine's stages
+    def make_data(self):
+        """A run's data for this model (lock histories, memos): pass it to the stage functions to
+        evaluate with a given contact history (``data.set_lock(k, history)``)."""
+        return self.core.make_data()
+
+    def initial_positions(self) -> np.ndarray:
+        """The stowed configuration: base at rest at W's origin, every angle 0, panels undeformed."""
+        return self.core.initial_positions()
+
+    def residual(self, q, v, a, t: float = 0.0, *, data=None) -> np.ndarray:
+        """r(q, v, a, t): the equations of motion (multibody/residual.hpp)."""
+        return self.core.residual(q, v, a, t, data=data)
+
+    def newton_matrix(self, q, v, a, t: float, c_a: float, c_v: float, c_q: float, *, data=None) -> np.ndarray:
+        """c_a dr/da + c_v dr/dv + c_q dr/dq (dr/dq along the base's retraction), dense."""
+        return self.core.newton_matrix(q, v, a, t, c_a, c_v, c_q, data=data)
+
+    def momentum(self, q, v, *, t: float = 0.0, data=None) -> np.ndarray:
+        """[P_W; H_W]: total linear (N s) and angular momentum about W's origin (N m s)."""
+        return self.core.momentum(q, v, t=t, data=data)
+
+    def momentum_jacobian(self, q, v, c_v: float, c_q: float, *, data=None) -> np.ndarray:
+        """c_v dPi/dv + c_q dPi/dq, (6 x nv)."""
+        return self.core.momentum_jacobian(q, v, c_v, c_q, data=data)
+
+    def outputs(self, q, v, a, t: float = 0.0, *, data=None) -> dict:
+        """What a run records at (q, v, a, t): the engine's raw per-hinge and system outputs."""
+        return self.core.outputs(q, v, a, t, data=data)
+
+    # ----------------------------------------------------------------------------------- runs
+    def simulate(self, t_end: float, dt: float, *, scheme=GeneralizedAlpha(0.8), tolerance: Optional[float] = None,
+                 progress: Optional[bool] = None, q0=None, v0=None,
+                 nodes: Union[None, str, Mapping[int, Sequence[int]]] = None,
+                 series: Optional[Callable[["Model", dict], dict]] = None, units: Optional[dict] = None,
+                 metadata: Optional[dict] = None, stop: Optional[Callable[[], bool]] = None, data=None) -> Result:
+        """Run to ``t_end`` (s) with output step ``dt`` (s), from rest at the stowed configuration
+        unless ``q0``/``v0`` are given (see the module docstring for their layout).
+
+        ``scheme``: :class:`~deployfx.integrators.GeneralizedAlpha` (default rho_inf = 0.8), HHT or
+        Newmark. ``tolerance`` (m or rad, absolute): error-controlled steps of at most ``dt``,
+        keeping the local displacement error estimate h^2 |beta - 1/6| |a_n+1 - a_n| below it;
+        None: fixed steps of ``dt``. Contact switches are located in time either way.
+        ``progress``: a tqdm bar (True), none (False), or by default one only when standard error
+        is a terminal. Ctrl-C (main thread) or ``stop()`` returning True (any thread: e.g. a
+        ``threading.Event``'s ``is_set``) stops the run within 0.2 s with a SimulationError holding
+        the results so far.
+
+        The result's series are those of :mod:`deployfx.results` (per hinge (n, H), system (n, 3)
+        or (n,), the raw ``q`` and ``v``), plus for ``nodes`` (``{hinge: [node, ...]}``, or
+        ``"all"`` for every node of every panel) ``node_displacements_<k>`` ((n, nodes, 3), m, C_k
+        axes). ``series(model, raw)`` (optional) adds a scene's own series (``units`` theirs) from
+        the engine's raw dict. Raises :class:`~deployfx.integrators.SimulationError` with
+        ``.result`` (the series up to the failure) if a step cannot be completed, or if an undriven
+        run's total energy grew by more than ``ENERGY_GROWTH_LIMIT`` of its peak kinetic energy
+        (numerical divergence: the message gives the time).
+        """
+        t_end, dt, tol, scheme = _run_arguments(t_end, dt, scheme, tolerance)
+        q0 = self.initial_positions() if q0 is None else _state("q0", q0, self.num_positions)
+        v0 = np.zeros(self.num_velocities) if v0 is None else _state("v0", v0, self.num_velocities)
+        node_sets = self._node_sets(nodes)
+        should_stop = None if stop is None else (lambda: bool(stop()))
+        raw, wall = _timed_run(lambda progress: _core.simulate(
+            self.core, q0, v0, t_end=t_end, dt=dt, scheme=scheme._params(), tolerance=tol, progress=progress,
+            should_stop=should_stop, data=data), t_end, progress)
+        out = self._series(raw)
+        for k, idx in node_sets.items():
+            out[f"node_displacements_{k}"] = self.node_displacements(raw["q"], k, idx)
+        all_units = dict(SERIES_UNITS, **{f"node_displacements_{k}": "m" for k in node_sets})
+        if series is not None:
+            extra = series(self, raw)
+            out.update(extra)
+            all_units.update(units or {})
+        meta = {"deployfx_version": _version(),
+                "run_started_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
+        meta.update(self.description)
+        meta.update(metadata or {})
+        meta.update(base_free=self.base_free, hinges=self._hinge_metadata(),
+                    nodes={str(k): [int(i) for i in v] for k, v in node_sets.items()})
+        if len(raw["t"]):  # the momentum the bodies carry: the scale of its conservation error
+            meta["momentum_scale"] = {"P_N_s": float(np.max(raw["momentum_scale_P"])),
+                                      "H_N_m_s": float(np.max(raw["momentum_scale_H"]))}
+        return _run_result(raw, out, all_units, meta, scheme, dt, t_end, tolerance, wall, self.conservative)
+
+    def _node_sets(self, nodes) -> dict:
+        if nodes is None:
+            return {}
+        panels = [k for k in range(self.num_hinges) if self.shells[k] is not None]
+        if isinstance(nodes, str):
+            if nodes != "all":
+                raise ValueError(f"nodes = {nodes!r} is invalid: must be 'all', a mapping {{hinge: [node, ...]}} or None")
+            return {k: np.arange(self.shells[k].num_dofs // 6) for k in panels}
+        if not isinstance(nodes, Mapping):
+            raise TypeError(f"nodes must be 'all', a mapping {{hinge: [node, ...]}} or None, got {type(nodes).__name__}")
+        out = {}
+        for k, idx in nodes.items():
+            k = self._hinge(k, panel=True)
+            idx = np.atleast_1d(np.asarray(idx))
+            if idx.dtype.kind not in "iu":
+                raise TypeError(f"nodes[{k}] must be node indices (integers), got {idx.dtype}")
+            n_nodes = self.shells[k].num_dofs // 6
+            if idx.size and (idx.min() < 0 or idx.max() >= n_nodes):
+                raise ValueError(f"nodes[{k}] must lie in [0, {n_nodes}) (hinge {k}'s panel nodes)")
+            out[k] = idx.astype(int)
+        return out
+
+    def _hinge_metadata(self) -> list:
+        out = []
+        for k, L in enumerate(self.links):
+            lay = self.core.layout(k)
+            info = {"parent": "base" if lay["parent"] < 0 else int(lay["parent"]),
+                    "fidelity": None if L.appendage is None else str(L.appendage.fidelity),
+                    "lock": L.lock is not None, "lock_play_deg": None if L.lock is None else L.lock.play_deg,
+                    "driven": L.hinge.spin_up is not None, "stowed_angle_deg": L.hinge.stowed_angle_deg,
+                    "tip_node": int(self.tip_nodes[k])}
+            b = self.core.basis_info(k)
+            if b is not None:
+                info.update(modes=b["modes"], static_corrections=b["static_corrections"],
+                            modal_derivatives=b["modal_derivatives"], basis_size=b["size"])
+            out.append(info)
+        return out
+
+    def _series(self, raw: dict) -> dict:
+        q = raw["q"]
+        n, H = len(q), self.num_hinges
+        stowed = np.array([L.hinge.stowed_angle_deg for L in self.links])
+        tip = np.zeros((n, H, 3))
+        deflection = np.zeros((n, H))
+        for k, rows in enumerate(self._tip_rows):
+            if rows is None:
+                continue
+            lay = self.core.layout(k)
+            tip[:, k] = q[:, lay["iq_elastic"]:lay["iq_elastic"] + lay["num_elastic"]] @ rows.T
+            deflection[:, k] = tip[:, k] @ self.tip_directions[k]
+        return {
+            "t": raw["t"],
+            "deployment_angle": stowed + np.degrees(raw["theta"]),
+            "deployment_rate": np.degrees(raw["theta_rate"]),
+            "spring_torque": raw["spring_torque"], "lock_force": raw["lock_force"],
+            "lock_torque": raw["lock_torque"], "latched": raw["latched"],
+            "hinge_force": raw["hinge_force"], "hinge_moment": raw["hinge_moment"],
+            "strain_energy": raw["strain_energy"], "tip_displacement": tip, "tip_deflection": deflection,
+            "body_attitude": base_attitude_deg(q, self.base_free),
+            "total_angular_momentum": raw["angular_momentum"], "body_angular_momentum": raw["base_angular_momentum"],
+            "total_linear_momentum": raw["linear_momentum"], "body_linear_momentum": raw["base_linear_momentum"],
+            "kinetic_energy": raw["kinetic_energy"], "potential_energy": raw["potential_energy"],
+            "q": q, "v": raw["v"],
+        }
+
+
+def _state(name: str, value, n: int) -> np.ndarray:
+    a = np.asarray(value, dtype=float)
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be {n} finite numbers, got shape {a.shape}")
+    return a
+
+
+def rigid_appendage(shell: ShellModel) -> RigidPart:
+    """The undeformed mesh of a :class:`~deployfx.ShellModel` as one rigid body in its frame:
+    mass (kg), centre of mass (m) and inertia about it (kg m^2), from its floating-frame shape
+    integrals (the mass, first moment S0 and inertia J0 about the frame's origin; parallel axes)."""
+    ffi = shell.floating_frame_inertia()
+    m = float(ffi.mass)
+    c = np.asarray(ffi.S0) / m
+    J = np.asarray(ffi.J0) - m * (c @ c * np.eye(3) - np.outer(c, c))
+    return RigidPart.make("appendage", m, c, 0.5 * (J + J.T))
+
+
+def _tip(shell: ShellModel, axis_C: np.ndarray) -> tuple[int, np.ndarray]:
+    """The node farthest from the hinge axis (through C's origin along ``axis_C``), among those
+    within 1e-9 of the farthest the one nearest the axis' foot; and the unit direction in which
+    a rotation about the axis moves it (the panel's normal there if it lies on the axis)."""
+    X = np.asarray(shell.nodes, dtype=float)
+    along = X @ axis_C
+    dist = np.linalg.norm(X - np.outer(along, axis_C), axis=1)
+    far = np.flatnonzero(dist >= dist.max() - 1e-9 * max(dist.max(), 1.0))
+    node = int(far[np.argmin(np.abs(along[far]))])
+    d = np.cross(axis_C, X[node])
+    if np.linalg.norm(d) < 1e-12:
+        quads = np.asarray(shell.quads, dtype=int)
+        quad = quads[np.flatnonzero((quads == node).any(axis=1))[0]]
+        d = np.cross(X[quad[2]] - X[quad[0]], X[quad[3]] - X[quad[1]])
+    return node, d / np.linalg.norm(d)
+
+
+def compile_model(scene, description: Optional[dict]) -> Model:
+    """The :class:`Model` of a checked :class:`~deployfx.scene.Scene` (``Scene.compile``)."""
+    base = scene.base
+    body = base.part
+    for p in scene.base_parts:
+        body = body + p
+    specs, tips, dirs, rows = [], [], [], []
+    children = {k: [] for k in range(len(scene.links))}
+    for k, link in enumerate(scene.links):
+        if link.hinge.parent != "base":
+            children[link.hinge.parent].append(k)
+    for k, link in enumerate(scene.links):
+        h = link.hinge
+        rigid = h.fitting
+        for p in link.parts:
+            rigid = rigid + p
+        if link.appendage is None and rigid.mass == 0 and not np.any(rigid.inertia) and not children[k]:
+            raise ValueError(f"hinges[{k}] carries no body: give it an appendage (set_appendage(..., hinge={k})), "
+                             f"a rigid part (add_rigid_part(..., body={k})) or a fitting")
+        panel = None
+        a = link.appendage
+        if a is not None:
+            panel = _core.PanelSpec(shell=a.shell._impl, fixed_dofs=list(a.fixed_dofs), fidelity=a.fidelity.value,
+                                    alpha_M=a.alpha_M, beta_K=a.beta_K, modes=a.modes,
+                                    derivative_modes=-1 if a.derivative_modes is None else a.derivative_modes)
+        lock = None
+        if link.lock is not None:
+            L = link.lock
+            try:
+                lock = _core.HingeLockSpec(theta_lock=L.theta_lock, pin_radius=L.pin_radius, clearance=L.clearance,
+                                           law=L.law._impl, mu=L.friction.mu, v_reg=L.friction.v_reg)
+            except ValueError as e:
+                raise ValueError(f"hinges[{k}].{e}") from None
+        driver = None if h.spin_up is None else _core.SpinUpDriver(omega_s=h.spin_up.omega_s, t_s=h.spin_up.t_s)
+        specs.append(_core.HingeSpec(parent=-1 if h.parent == "base" else int(h.parent), point=h.point, axis=h.axis,
+                                     R_PC0=h.R_PC0, tau0=h.tau0, k_theta=h.k_theta, c_theta=h.c_theta, driver=driver,
+                                     lock=lock, body=_core.RigidInertia(mass=rigid.mass, com=rigid.com,
+                                                                        inertia=rigid.inertia), panel=panel))
+        if a is None:
+            tips.append(-1)
+            dirs.append(np.zeros(3))
+        else:
+            node, d = _tip(a.shell, h.R_PC0.T @ h.axis)
+            tips.append(node)
+            dirs.append(d)
+    core = _core.Model(base_free=base.free, base=_core.RigidInertia(mass=body.mass if base.free else 1.0,
+                                                                    com=body.com,
+                                                                    inertia=body.inertia if base.free else np.eye(3)),
+                       hinges=specs)
+    for k in range(len(specs)):
+        D = core.displacement_map(k)
+        rows.append(None if D.size == 0 else D[6 * tips[k]:6 * tips[k] + 3].copy())
+    return Model(core=core, base_free=base.free, links=scene.links, description=dict(description or {}),
+                 tip_nodes=tuple(tips), tip_directions=tuple(dirs), _tip_rows=tuple(rows))
