@@ -260,12 +260,26 @@ void define_multibody(py::module_& m) {
           py::kw_only(), py::arg("data") = nullptr,
           "c_a dr/da + c_v dr/dv + c_q dr/dq (dr/dq along retract()), assembled dense.")
       .def(
+          "newton_matrix_and_momentum_jacobian",
+          [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,
+             double c_a, double c_v, double c_q, PyData* data) {
+            s.check_state(q, v, &a);
+            if (!(c_v > 0)) throw std::invalid_argument("c_v must be > 0");
+            DataArg d(s, data);
+            Eigen::MatrixXd J;
+            Eigen::MatrixXd S = newton_matrix(s, *d.data, q, v, a, t, c_a, c_v, c_q, &J).dense();
+            return py::make_tuple(S, J);
+          },
+          py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::arg("c_a"), py::arg("c_v"), py::arg("c_q"),
+          py::kw_only(), py::arg("data") = nullptr,
+          "(the Newton matrix, (1/c_v)(c_v dPi/dv + c_q dPi/dq)) from one set of derivative passes: what the "
+          "integrator's momentum rows use.")
+      .def(
           "momentum",
           [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t, PyData* data) {
             s.check_state(q, v);
             DataArg d(s, data);
-            d.data->t = t;
-            return momentum(s, *d.data, q, v);
+            return momentum(s, *d.data, q, v, t);
           },
           py::arg("q"), py::arg("v"), py::kw_only(), py::arg("t") = 0.0, py::arg("data") = nullptr)
       .def(
@@ -276,6 +290,16 @@ void define_multibody(py::module_& m) {
             return momentum_jacobian(s, *d.data, q, v, c_v, c_q);
           },
           py::arg("q"), py::arg("v"), py::arg("c_v"), py::arg("c_q"), py::kw_only(), py::arg("data") = nullptr)
+      .def(
+          "base_velocity_jacobian",
+          [](const Model& s, const Eigen::VectorXd& q, PyData* data) {
+            s.check_state(q, Eigen::VectorXd::Zero(s.num_velocities()));
+            if (!s.base_free()) throw std::invalid_argument("base_velocity_jacobian: the base is fixed");
+            DataArg d(s, data);
+            return Eigen::MatrixXd(base_velocity_jacobian(s, *d.data, q));
+          },
+          py::arg("q"), py::kw_only(), py::arg("data") = nullptr,
+          "dPi/d(v_W, w_B), (6 x 6), from the composite inertia (the momentum polish's matrix).")
       .def(
           "lock_events",
           [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, PyData* data) {

@@ -1,5 +1,5 @@
 """Reading a scene file's dict (deployfx.scene_file): the file's structure is checked here,
-naming the offending key; the builder then checks the values. Versions 1 and 2 of the schema
+naming the offending key; the builder then checks the values. Versions 1, 2 and 3 of the schema
 documented in :mod:`deployfx.scene_file`."""
 from __future__ import annotations
 
@@ -9,8 +9,9 @@ from typing import Any, Iterator, Mapping
 
 import numpy as np
 
-from ._scene_schema import (_HINGE_FILE_KEYS, _ISOTROPIC, _MATERIAL_UNITS, _ORTHOTROPIC, _PART_FILE_KEYS,
-                            SCHEMA, VERSIONS_READ, _accepts, _given)
+from ._scene_schema import (_APPENDAGE_FILE_KEYS, _APPENDAGE_OPTIONAL, _HINGE_FILE_KEYS, _HINGE_OPTIONAL,
+                            _ISOTROPIC, _LOCK_FILE_KEYS, _MATERIAL_UNITS, _OLD_APPENDAGE_OPTIONS, _ORTHOTROPIC,
+                            _PART_FILE_KEYS, SCHEMA, VERSIONS_READ)
 from .contact import ContactLaw, Friction
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import ShellModel
@@ -104,81 +105,82 @@ def _read_material(d: Any, where: str):
     return Isotropic(**args) if d["type"] == "isotropic" else Orthotropic(**args)
 
 
-def _read_options(t: Mapping[str, Any], where: str, method) -> dict:
+def _old_options(t: Mapping[str, Any], where: str, allowed: tuple) -> dict:
+    """A version-1/2 table's ``options``: only the builder options version 3 names are known."""
     if "options" not in t:
         return {}
     opts = t["options"]
     if not isinstance(opts, Mapping):
         raise ValueError(f"{where}.options must be a table (mapping), got {type(opts).__name__}")
-    for key in opts:
-        if _given(method, key):
-            raise ValueError(f"{where}.options.{key} is not an option: the file gives {key!r} "
-                             "itself (by a key of its own or by the hinge's place in the file)")
-        if not _accepts(method, key):
-            raise ValueError(f"{where}.options.{key}: Scene.{method.__name__} has no parameter "
-                             f"{key!r} (a newer deployfx may have written this file)")
+    unknown = sorted(set(opts) - set(allowed))
+    if unknown:
+        raise ValueError(f"{where}.options has unknown key(s) {', '.join(unknown)}; allowed: "
+                         f"{', '.join(allowed) or 'none'}")
     return dict(opts)
 
 
-def _read_hinge(scene: Scene, h: Mapping[str, Any], where: str, k: int, R_key: str) -> None:
-    """Hinge k from its checked table ``h`` (hinge 0: Scene.set_hinge; k > 0: add_hinge on the
-    body of hinge k - 1)."""
+def _hinge_args(h: Mapping[str, Any], where: str, R_key: str) -> dict:
     fitting = _rigid(h["fitting"], f"{where}.fitting")
     args = {"point": _array(h["point_m"], f"{where}.point_m", (3,)),
             "axis": _array(h["axis"], f"{where}.axis", (3,)),
             "tau0": _number(h["tau0_N_m"], f"{where}.tau0_N_m"),
             "k_theta": _number(h["k_theta_N_m_per_rad"], f"{where}.k_theta_N_m_per_rad"),
             "c_theta": _number(h["c_theta_N_m_s_per_rad"], f"{where}.c_theta_N_m_s_per_rad"),
-            "fitting_inertia": fitting["inertia"], "fitting_mass": fitting["mass"],
-            "fitting_com": fitting["com"]}
-    R = _array(h[R_key], f"{where}.{R_key}", (3, 3))
-    if k > 0:
-        opts = _read_options(h, where, Scene.add_hinge)
-        with _at(where):
-            scene.add_hinge(k - 1, R_PE0=R, **args, **opts)
-        return
-    spin_up = None
+            "fitting_inertia": fitting["inertia"], "fitting_mass": fitting["mass"], "fitting_com": fitting["com"],
+            "R": _array(h[R_key], f"{where}.{R_key}", (3, 3))}
     if "spin_up" in h:
         s = _table(h["spin_up"], f"{where}.spin_up", ("omega_s_rad_per_s", "t_s_s"))
-        spin_up = (_number(s["omega_s_rad_per_s"], f"{where}.spin_up.omega_s_rad_per_s"),
-                   _number(s["t_s_s"], f"{where}.spin_up.t_s_s"))
-    opts = _read_options(h, where, Scene.set_hinge)
-    with _at(where):
-        scene.set_hinge(R_BE0=R, spin_up=spin_up, **args, **opts)
+        args["spin_up"] = (_number(s["omega_s_rad_per_s"], f"{where}.spin_up.omega_s_rad_per_s"),
+                           _number(s["t_s_s"], f"{where}.spin_up.t_s_s"))
+    if "stowed_angle_deg" in h:
+        args["stowed_angle_deg"] = _number(h["stowed_angle_deg"], f"{where}.stowed_angle_deg")
+    return args
 
 
-def _read_appendage(scene: Scene, a: Any, where: str, k: int) -> None:
-    a = _table(a, where, ("fidelity", "fixed_dofs", "alpha_M_per_s", "beta_K_s", "shell"),
-               ("options",))
-    s = _table(a["shell"], f"{where}.shell", ("nodes_m", "quads", "ref_axis", "plies"))
+def _read_shell(s: Any, where: str) -> ShellModel:
+    s = _table(s, where, ("nodes_m", "quads", "ref_axis", "plies"))
     plies_in = s["plies"]
     if not isinstance(plies_in, list) or not plies_in:
-        raise ValueError(f"{where}.shell.plies must be a non-empty list of tables")
+        raise ValueError(f"{where}.plies must be a non-empty list of tables")
     plies = []
     for i, p in enumerate(plies_in):
-        ply = f"{where}.shell.plies[{i}]"
+        ply = f"{where}.plies[{i}]"
         p = _table(p, ply, ("thickness_m", "angle_deg", "material"))
         with _at(ply):
             plies.append(Ply(_read_material(p["material"], f"{ply}.material"),
                              _number(p["thickness_m"], f"{ply}.thickness_m"),
                              _number(p["angle_deg"], f"{ply}.angle_deg")))
-    with _at(f"{where}.shell"):
-        shell = ShellModel(_array(s["nodes_m"], f"{where}.shell.nodes_m", (None, 3)),
-                           _array(s["quads"], f"{where}.shell.quads", (None, 4), integer=True),
-                           Laminate(plies), _array(s["ref_axis"], f"{where}.shell.ref_axis", (3,)))
+    with _at(where):
+        return ShellModel(_array(s["nodes_m"], f"{where}.nodes_m", (None, 3)),
+                          _array(s["quads"], f"{where}.quads", (None, 4), integer=True),
+                          Laminate(plies), _array(s["ref_axis"], f"{where}.ref_axis", (3,)))
+
+
+def _read_appendage(scene: Scene, a: Any, where: str, k: int, version: int) -> None:
+    if version >= 3:
+        a = _table(a, where, _APPENDAGE_FILE_KEYS, _APPENDAGE_OPTIONAL)
+        opts = {"modes": a["modes"]}
+        if "derivative_modes" in a:
+            opts["derivative_modes"] = a["derivative_modes"]
+    else:
+        a = _table(a, where, ("fidelity", "fixed_dofs", "alpha_M_per_s", "beta_K_s", "shell"), ("options",))
+        opts = _old_options(a, where, _OLD_APPENDAGE_OPTIONS)
+    for key, value in opts.items():
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise ValueError(f"{where}.{key} must be an integer, got {value!r}")
+    shell = _read_shell(a["shell"], f"{where}.shell")
     if not isinstance(a["fidelity"], str):
         raise ValueError(f"{where}.fidelity must be a string, got {a['fidelity']!r}")
     fixed = _array(a["fixed_dofs"], f"{where}.fixed_dofs", (None,), integer=True)
     damping = (_number(a["alpha_M_per_s"], f"{where}.alpha_M_per_s"),
                _number(a["beta_K_s"], f"{where}.beta_K_s"))
-    opts = _read_options(a, where, Scene.set_appendage)
     with _at(where):
-        scene.set_appendage(shell, fixed, a["fidelity"], damping=damping, hinge=k, **opts)
+        scene.set_appendage(shell, fixed, fidelity=a["fidelity"], damping=damping, hinge=k, **opts)
 
 
-def _read_lock(scene: Scene, L: Any, where: str, k: int) -> None:
-    L = _table(L, where, ("theta_lock_rad", "pin_radius_m", "clearance_m", "law", "friction"),
-               ("options",))
+def _read_lock(scene: Scene, L: Any, where: str, k: int, version: int) -> None:
+    L = _table(L, where, _LOCK_FILE_KEYS, ("options",) if version < 3 else ())
+    _old_options(L, where, ())
     law = _table(L["law"], f"{where}.law", ("kind", "K_N_per_m_n", "n", "D_N_s_per_m", "e"))
     if not isinstance(law["kind"], str):
         raise ValueError(f"{where}.law.kind must be a string, got {law['kind']!r}")
@@ -191,12 +193,16 @@ def _read_lock(scene: Scene, L: Any, where: str, k: int) -> None:
     with _at(f"{where}.friction"):
         friction = Friction(_number(fr["mu"], f"{where}.friction.mu"),
                             _number(fr["v_reg_m_per_s"], f"{where}.friction.v_reg_m_per_s"))
-    args = (_number(L["theta_lock_rad"], f"{where}.theta_lock_rad"),
-            _number(L["pin_radius_m"], f"{where}.pin_radius_m"),
-            _number(L["clearance_m"], f"{where}.clearance_m"), contact, friction)
-    opts = _read_options(L, where, Scene.set_lock)
     with _at(where):
-        scene.set_lock(*args, hinge=k, **opts)
+        scene.set_lock(_number(L["theta_lock_rad"], f"{where}.theta_lock_rad"),
+                       _number(L["pin_radius_m"], f"{where}.pin_radius_m"),
+                       _number(L["clearance_m"], f"{where}.clearance_m"), contact, friction=friction, hinge=k)
+
+
+def _add_hinge(scene: Scene, parent, args: dict, where: str) -> None:
+    R = args.pop("R")
+    with _at(where):
+        scene.add_hinge(parent, R_PE0=R, **args)
 
 
 def _read_version_1(scene: Scene, top: Mapping[str, Any]) -> None:
@@ -204,45 +210,53 @@ def _read_version_1(scene: Scene, top: Mapping[str, Any]) -> None:
     top = _table(top, "scene file", ("schema", "version", "base", "hinge", "appendage"),
                  ("units", "parts", "lock"))
     _read_base(scene, top)
-    h = _table(top["hinge"], "hinge", ("point_m", "axis", "R_BE0") + _HINGE_FILE_KEYS[3:],
-               ("spin_up", "options"))
-    _read_hinge(scene, h, "hinge", 0, "R_BE0")
-    _read_appendage(scene, top["appendage"], "appendage", 0)
+    h = _table(top["hinge"], "hinge", ("point_m", "axis", "R_BE0", "tau0_N_m", "k_theta_N_m_per_rad",
+                                       "c_theta_N_m_s_per_rad", "fitting"), ("spin_up", "options"))
+    _old_options(h, "hinge", ())
+    _add_hinge(scene, "base", _hinge_args(h, "hinge", "R_BE0"), "hinge")
+    _read_appendage(scene, top["appendage"], "appendage", 0, 1)
     if "lock" in top:
-        _read_lock(scene, top["lock"], "lock", 0)
+        _read_lock(scene, top["lock"], "lock", 0, 1)
 
 
-def _read_version_2(scene: Scene, top: Mapping[str, Any]) -> None:
-    """A version-2 file: the hinges in chain order, each with its body's parts, appendage, lock."""
+def _read_hinges(scene: Scene, top: Mapping[str, Any], version: int) -> None:
+    """A version-2 (serial chain) or -3 (tree) file's hinges, each with its body's parts,
+    appendage and lock."""
     top = _table(top, "scene file", ("schema", "version", "base", "hinges"), ("units", "parts"))
     _read_base(scene, top)
-    hinges = _list(top["hinges"], "hinges", "hinge 0 on the base, hinge k on hinge k - 1's body")
+    hinges = _list(top["hinges"], "hinges", "each on the base or an earlier hinge's body")
     if not hinges:
-        raise ValueError("hinges must hold at least one hinge (hinge 0, on the base)")
+        raise ValueError("hinges must hold at least one hinge")
     for k, h in enumerate(hinges):
         where = f"hinges[{k}]"
-        if k > 0 and isinstance(h, Mapping) and "spin_up" in h:
-            raise ValueError(f"{where}.spin_up is not allowed: a prescribed hinge angle is for "
-                             "hinge 0 only (Scene.set_hinge)")
-        h = _table(h, where, ("parent",) + _HINGE_FILE_KEYS,
-                   (("spin_up",) if k == 0 else ()) + ("options", "parts", "appendage", "lock"))
-        parent = h["parent"]
-        if k == 0:
-            ok = isinstance(parent, str) and parent == "base"
+        if version == 2:
+            if k > 0 and isinstance(h, Mapping) and "spin_up" in h:
+                raise ValueError(f"{where}.spin_up is not allowed in a version-2 file: a prescribed hinge angle "
+                                 "is for hinge 0 only there")
+            h = _table(h, where, ("parent", "point_m", "axis", "R_PE0", "tau0_N_m", "k_theta_N_m_per_rad",
+                                  "c_theta_N_m_s_per_rad", "fitting"),
+                       (("spin_up",) if k == 0 else ()) + ("options", "parts", "appendage", "lock"))
+            _old_options(h, where, ())
         else:
-            ok = (isinstance(parent, numbers.Integral) and not isinstance(parent, bool)
-                  and parent == k - 1)
+            h = _table(h, where, _HINGE_FILE_KEYS, _HINGE_OPTIONAL)
+        parent = h["parent"]
+        if version == 2:
+            ok = parent == "base" if k == 0 else (isinstance(parent, numbers.Integral)
+                                                  and not isinstance(parent, bool) and parent == k - 1)
+            allowed = "'base' (hinge 0 is on the base)" if k == 0 else f"{k - 1} (a version-2 file is a serial chain)"
+        else:
+            ok = parent == "base" or (isinstance(parent, numbers.Integral) and not isinstance(parent, bool)
+                                      and 0 <= parent < k)
+            allowed = "'base'" + (f" or an earlier hinge's index in [0, {k - 1}]" if k else "")
         if not ok:
-            allowed = ("'base' (hinge 0 is on the base)" if k == 0 else
-                       f"{k - 1} (hinge {k} is on the body of hinge {k - 1}: deployfx builds "
-                       "serial chains)")
             raise ValueError(f"{where}.parent = {parent!r} is out of range: must be {allowed}")
-        _read_hinge(scene, h, where, k, "R_PE0")
+        _add_hinge(scene, parent if isinstance(parent, str) else int(parent),
+                   _hinge_args(h, where, "R_PE0" if version == 2 else "R_PC0"), where)
         _read_parts(scene, h.get("parts", []), f"{where}.parts", k)
         if "appendage" in h:
-            _read_appendage(scene, h["appendage"], f"{where}.appendage", k)
+            _read_appendage(scene, h["appendage"], f"{where}.appendage", k, version)
         if "lock" in h:
-            _read_lock(scene, h["lock"], f"{where}.lock", k)
+            _read_lock(scene, h["lock"], f"{where}.lock", k, version)
 
 
 def _read_base(scene: Scene, top: Mapping[str, Any]) -> None:
@@ -251,12 +265,12 @@ def _read_base(scene: Scene, top: Mapping[str, Any]) -> None:
         raise ValueError(f"base.free must be true or false, got {b['free']!r}")
     base = _rigid({k: b[k] for k in _PART_FILE_KEYS}, "base")
     with _at("base"):
-        scene.set_base(base["mass"], base["inertia"], base["com"], free=b["free"])
+        scene.set_base(base["mass"], base["inertia"], com=base["com"], free=b["free"])
     _read_parts(scene, top.get("parts", []), "parts", "base")
 
 
 def scene_from_dict(d: Mapping[str, Any]) -> Scene:
-    """Rebuild a :class:`Scene` from a dict of the schema above, version 2 or 1 (e.g. from
+    """Rebuild a :class:`Scene` from a dict of the schema above, version 3, 2 or 1 (e.g. from
     :func:`scene_to_dict`). Raises ValueError naming the key for an unknown schema or version, a
     missing or unknown key, or a value of the wrong type or shape; the builder's own checks
     follow."""
@@ -271,7 +285,10 @@ def scene_from_dict(d: Mapping[str, Any]) -> Scene:
     version = d["version"]
     if isinstance(version, bool) or not isinstance(version, int) or version not in VERSIONS_READ:
         raise ValueError(f"version = {version!r} is an unknown scene-file schema version; this "
-                         f"deployfx reads versions {' and '.join(map(str, VERSIONS_READ))}")
+                         f"deployfx reads versions {', '.join(map(str, VERSIONS_READ))}")
     scene = Scene()
-    (_read_version_1 if version == 1 else _read_version_2)(scene, d)
+    if version == 1:
+        _read_version_1(scene, d)
+    else:
+        _read_hinges(scene, d, version)
     return scene

@@ -21,7 +21,7 @@ from typing import Any, Optional, Sequence
 
 import numpy as np
 
-from . import _video
+from . import _core, _video
 from ._checks import as_float
 from .model import Model
 from .results import PathLike, Result
@@ -126,13 +126,28 @@ def _picture(m: Model, result: Result, scale: float) -> dict:
         a_W = np.einsum("kij,j->ki", R_WC[:, k], a)
         axes.append(o_W[:, k, None, :] + 0.5 * span * np.stack([-a_W, a_W], axis=1))
     disp = [np.linalg.norm(m.node_displacements(q, k), axis=2) if m.deforming[k] else None for k in panels]
-    angle = result.deployment_angle if "deployment_angle" in result else np.degrees(q[:, 7 if m.base_free else 0:])
+    angle = result.deployment_angle if "deployment_angle" in result else _angles_deg(m, q, result.t)
     angle = np.asarray(angle).reshape(len(q), -1)
     first = m.links[0].hinge.point
     return dict(points=[m.world_points(q, k, t=result.t, scale=scale) for k in panels],
                 quads=[np.asarray(m.shells[k].quads, dtype=int) for k in panels], disp=disp,
                 axes=np.stack(axes, axis=1), r_W=r_W, R_WB=R_WB, point=np.asarray(first), span=span,
                 label=lambda i: "deployment angle " + ", ".join(f"{d:.1f}" for d in angle[i]) + " deg")
+
+
+def _angles_deg(m: Model, q: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Each hinge's deployment angle (deg, (n, H)): its stowed angle plus its travel, read from
+    ``q`` (Model.layout), or for a prescribed hinge its angle at ``t``."""
+    out = np.empty((len(q), m.num_hinges))
+    for k, L in enumerate(m.links):
+        i = m.layout(k)["iq_theta"]
+        if i >= 0:
+            theta = q[:, i]
+        else:
+            driver = _core.SpinUpDriver(omega_s=L.hinge.spin_up.omega_s, t_s=L.hinge.spin_up.t_s)
+            theta = np.array([driver.evaluate(float(x))[0] for x in t])
+        out[:, k] = L.hinge.stowed_angle_deg + np.degrees(theta)
+    return out
 
 
 def animate(model: Any, result: Result, path: PathLike, *, fps: float = 20.0, frames: Optional[int] = None,

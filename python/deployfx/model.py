@@ -69,6 +69,7 @@ class Model:
     # ---------------------------------------------------------------------------- the scene
     @property
     def num_hinges(self) -> int:
+        """The scene's hinges (H: the width of a run's per-hinge series)."""
         return len(self.links)
 
     @property
@@ -104,10 +105,12 @@ class Model:
 
     @property
     def num_positions(self) -> int:
+        """The length of ``q`` (see the module docstring and :meth:`layout`)."""
         return self.core.num_positions
 
     @property
     def num_velocities(self) -> int:
+        """The length of ``v`` (a free base's 6, the undriven hinges' rates, the elastic rates)."""
         return self.core.num_velocities
 
     def _hinge(self, hinge, panel: bool = False) -> int:
@@ -289,8 +292,10 @@ class Model:
         meta.update(base_free=self.base_free, hinges=self._hinge_metadata(),
                     nodes={str(k): [int(i) for i in v] for k, v in node_sets.items()})
         if len(raw["t"]):  # the momentum the bodies carry: the scale of its conservation error
-            meta["momentum_scale"] = {"P_N_s": float(np.max(raw["momentum_scale_P"])),
-                                      "H_N_m_s": float(np.max(raw["momentum_scale_H"]))}
+            scale = {"P_N_s": float(np.max(raw["momentum_scale_P"])),
+                     "H_N_m_s": float(np.max(raw["momentum_scale_H"]))}
+            if all(np.isfinite(v) for v in scale.values()):  # not when a divergent run overflowed it
+                meta["momentum_scale"] = scale
         return _run_result(raw, out, all_units, meta, scheme, dt, t_end, tolerance, wall, self.conservative)
 
     def _node_sets(self, nodes) -> dict:

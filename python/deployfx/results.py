@@ -65,6 +65,8 @@ _PREFIX = "series/"  # archive entries of the arrays; never collides with np.sav
 #: The series with one column per hinge ((n, H, ...)): Result.hinge(k) takes column k.
 PER_HINGE_SERIES = ("deployment_angle", "deployment_rate", "spring_torque", "lock_force", "lock_torque", "latched",
                     "hinge_force", "hinge_moment", "strain_energy", "tip_displacement", "tip_deflection")
+#: The per-hinge series with a vector per hinge ((n, H, 3)).
+_VECTOR_PER_HINGE_SERIES = ("hinge_force", "hinge_moment", "tip_displacement")
 #: Per-hinge metrics of :meth:`Result.summary` (lists, one value per hinge), in order.
 HINGE_KEYS = ("first_lock_time_s", "impacts", "peak_lock_force_N", "settling_time_s", "max_tip_deflection_m",
               "peak_hinge_force_N", "peak_hinge_moment_Nm")
@@ -195,7 +197,8 @@ class Result:
     def to_dataframe(self):
         """A pandas DataFrame indexed by ``t`` (s), one column per scalar series; vector series
         become ``name_x``, ``name_y``, ``name_z`` (3 components) or ``name[0]``, ``name[1]``, ...
-        (``name[i,j]`` for higher ranks). ``df.attrs["units"]`` maps each column to its unit.
+        (``name[i,j]`` for higher ranks); per-hinge series one column per hinge, ``name[k]``
+        (``name[k]_x``, ... for their vectors). ``df.attrs["units"]`` maps each column to its unit.
         """
         try:
             import pandas as pd
@@ -204,10 +207,11 @@ class Result:
                               "(or pip install 'deployfx[test]')") from exc
         columns: dict[str, np.ndarray] = {}
         units: dict[str, str] = {}
+        view = self._hinge_axes()[1]
         for name, a in self._series.items():
             if name == "t":
                 continue
-            for column, values in _columns(name, a):
+            for column, values in _columns(name, a, per_hinge=name in PER_HINGE_SERIES and not view):
                 if column in columns:
                     raise ValueError(f"series {name!r} gives column {column!r}, which another "
                                      "series already uses")
@@ -228,7 +232,8 @@ class Result:
             raise TypeError(f"k must be a hinge index (int), got {type(k).__name__}")
         if not 0 <= k < H:
             raise ValueError(f"k = {k} is out of range: must be in [0, {H - 1}] (the run's hinges)")
-        series = {name: (a[:, k] if name in PER_HINGE_SERIES and a.ndim >= 2 else a)
+        view = self._hinge_axes()[1]
+        series = {name: (a[:, k] if name in PER_HINGE_SERIES and not view else a)
                   for name, a in self._series.items()}
         meta = copy.deepcopy(self._metadata)
         if isinstance(meta.get("hinges"), list) and len(meta["hinges"]) == H:
@@ -239,12 +244,18 @@ class Result:
     @property
     def num_hinges(self) -> int:
         """The run's hinges: the width of its per-hinge series (1 for a hinge view)."""
+        return self._hinge_axes()[0]
+
+    def _hinge_axes(self) -> tuple[int, bool]:
+        """(H, view): the width of the per-hinge series, and whether they are one hinge's columns
+        ((n,), or (n, 3) for the vector series) rather than (n, H, ...)."""
         for name in PER_HINGE_SERIES:
             a = self._series.get(name)
             if a is not None:
-                return 1 if a.ndim == 1 else int(a.shape[1])
+                column_ndim = 2 if name in _VECTOR_PER_HINGE_SERIES else 1
+                return (1, True) if a.ndim == column_ndim else (int(a.shape[1]), False)
         hinges = self._metadata.get("hinges")
-        return len(hinges) if isinstance(hinges, list) else 0
+        return (len(hinges) if isinstance(hinges, list) else 0), False
 
     def summary(self, hinge: Optional[int] = None) -> dict[str, Any]:
         """Metrics of the run computed from its series (see :mod:`deployfx.metrics`), in the order
@@ -275,8 +286,7 @@ class Result:
         """
         s = self._series
         t = s["t"]
-        H = self.num_hinges
-        view = H == 1 and s.get("deployment_angle", np.zeros((1, 2))).ndim == 1
+        H, view = self._hinge_axes()
         infos = self._metadata.get("hinges")
         if not (isinstance(infos, list) and len(infos) == H):
             infos = [{} for _ in range(H)]
@@ -288,27 +298,32 @@ class Result:
             return a if view else a[:, k]
 
         per: dict[str, list] = {key: [None] * H for key in HINGE_KEYS}
+        measured = set()  # the keys some hinge measures (a value of None there: undefined, e.g. never locked)
         for k in range(H):
             info = infos[k]
             force, angle = column("lock_force", k), column("deployment_angle", k)
             if force is not None and info.get("lock", True):
+                measured.update(("first_lock_time_s", "impacts", "peak_lock_force_N"))
                 per["first_lock_time_s"][k] = metrics.first_contact_time(t, force)
                 per["impacts"][k] = metrics.impact_count(t, force)
                 per["peak_lock_force_N"][k] = metrics.peak_lock_force(force)
                 if angle is not None:
+                    measured.add("settling_time_s")
                     per["settling_time_s"][k] = metrics.lock_settling_time(
                         t, angle, force, angle_tol=_angle_band(info.get("lock_play_deg")))
             tip = column("tip_deflection", k)
             if tip is not None and info.get("fidelity") not in (None, "rigid"):
+                measured.add("max_tip_deflection_m")
                 per["max_tip_deflection_m"][k] = metrics.max_abs(tip, "tip_deflection")
             for key, name in (("peak_hinge_force_N", "hinge_force"), ("peak_hinge_moment_Nm", "hinge_moment")):
                 a = column(name, k)
                 if a is not None:
+                    measured.add(key)
                     per[key][k] = float(np.linalg.norm(a, axis=-1).max())
         out: dict[str, Any] = {}
         for key in HINGE_KEYS:
             values = per[key]
-            if all(v is None for v in values):
+            if key not in measured:
                 continue
             if view:
                 out[key] = values[0]
@@ -437,9 +452,13 @@ def _to_json_value(value: Any, where: str) -> Any:
                      f"got {type(value).__name__}")
 
 
-def _columns(name: str, a: np.ndarray):
-    """(column name, 1-D values) pairs of one series for a DataFrame."""
-    if a.ndim == 1:
+def _columns(name: str, a: np.ndarray, per_hinge: bool = False):
+    """(column name, 1-D values) pairs of one series for a DataFrame; ``per_hinge``: a (n, H, ...)
+    series, one column per hinge ``name[k]`` (then per component, ``name[k]_x``)."""
+    if per_hinge:
+        for k in range(a.shape[1]):
+            yield from _columns(f"{name}[{k}]", a[:, k])
+    elif a.ndim == 1:
         yield name, a
     elif a.shape[1:] == (3,):
         for k, axis in enumerate("xyz"):

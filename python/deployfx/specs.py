@@ -109,6 +109,7 @@ class RigidPart:
 
     @staticmethod
     def zero() -> "RigidPart":
+        """No body: zero mass and inertia (the default hinge fitting)."""
         return RigidPart(0.0, _frozen(np.zeros(3)), _frozen(np.zeros((3, 3))))
 
     def __add__(self, other: "RigidPart") -> "RigidPart":

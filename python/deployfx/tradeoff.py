@@ -307,18 +307,19 @@ def _nan(x: Optional[float]) -> float:
 def _row(case: Optional[Case], result: Optional[Result], setup: float, wall: float, failure: str,
          ref: _Reference, is_reference: bool) -> dict:
     meta = result.metadata if result is not None else {}
+    hinge = (meta.get("hinges") or [{}])[0]  # the paper scene's one hinge: its panel's basis
     row: dict[str, Any] = dict.fromkeys(COLUMNS)
     if case is not None:
         row.update(label=("reference: " if is_reference else "") + case.name, model=case.model,
                    modes=case.modes, mesh=case.mesh, dt_s=case.dt, tolerance=case.tolerance,
                    integrator=scheme_label(case.scheme))
         if case.model.startswith("reduced") and case.modes is None:
-            row["modes"] = meta.get("modes")
+            row["modes"] = hinge.get("modes")
     else:  # a given reference Result
         row.update(label="reference (given result)", model=meta.get("model"),
-                   modes=meta.get("modes"), mesh=meta.get("mesh"), dt_s=meta.get("dt"),
+                   modes=hinge.get("modes"), mesh=meta.get("mesh"), dt_s=meta.get("dt"),
                    tolerance=meta.get("tolerance"), integrator=meta.get("integrator"))
-    row.update(basis_size=meta.get("basis_size"), modal_derivatives=meta.get("modal_derivatives"),
+    row.update(basis_size=hinge.get("basis_size"), modal_derivatives=hinge.get("modal_derivatives"),
                setup_s=setup, wall_time_s=wall,
                steps=meta.get("steps"), substeps=meta.get("substeps"),
                newton_iterations=meta.get("newton_iterations"),

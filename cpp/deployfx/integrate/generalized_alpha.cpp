@@ -56,7 +56,7 @@ void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd
                                        const Eigen::VectorXd& Pi) {
   // Pi is linear in v: one solve with dPi/dv on the conserved velocities is exact.
   const int nc = sys_.num_conserved();
-  const Eigen::MatrixXd J = sys_.momentum_jacobian(q, v, 1.0, 0.0).leftCols(nc);
+  const Eigen::MatrixXd J = sys_.conserved_velocity_jacobian(q, v);
   v.head(nc) += J.partialPivLu().solve(Pi - sys_.momentum(q, v));
 }
 
@@ -125,12 +125,14 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const Eigen::VectorXd rm = nc ? Eigen::VectorXd((sys_.momentum(q1, v1) - Pi_n) / (h * gamma * c)) : Eigen::VectorXd();
     if (!r.allFinite() || !rm.allFinite()) throw fail("the residual is not finite");
     auto factorize_here = [&] {
-      const BlockMatrix S = sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c);
+      // With the momentum rows, their d/dvdot (up to the factor h gamma c): dPi/dv + (h beta /
+      // gamma) dPi/dq.
+      const BlockMatrix S =
+          nc ? sys_.iteration_matrix_and_momentum_jacobian(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c,
+                                                           momentum_jacobian_)
+             : sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c);
       if (!solver_.factorize(S)) throw fail("the iteration matrix is singular");
-      if (nc) {  // d/dvdot of the momentum rows above
-        momentum_jacobian_ = sys_.momentum_jacobian(q1, v1, 1.0, h * beta / gamma);
-        momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
-      }
+      if (nc) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
       factor_h_ = h;
       refactor = !newton_.reuse_jacobian || full;
     };

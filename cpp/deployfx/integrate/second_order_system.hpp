@@ -52,6 +52,22 @@ class SecondOrderSystem {
                                             double /*c_v*/, double /*c_q*/) {
     return {};
   }
+  /// iteration_matrix and, with conserved momenta, (1/c_v)(c_v dPi/dv + c_q dPi/dq) into
+  /// `momentum_jacobian` at the same state (c_v > 0): one evaluation where the system can share
+  /// the work. Default: the two separately.
+  virtual BlockMatrix iteration_matrix_and_momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                                             const Eigen::VectorXd& a, double t, double c_a,
+                                                             double c_v, double c_q,
+                                                             Eigen::MatrixXd& momentum_jacobian) {
+    BlockMatrix S = iteration_matrix(q, v, a, t, c_a, c_v, c_q);
+    momentum_jacobian = this->momentum_jacobian(q, v, 1.0, c_q / c_v);
+    return S;
+  }
+  /// dPi/dv on the conserved velocities alone (num_conserved() square): Pi is linear in v, so
+  /// this is what a momentum polish solves with. Default: momentum_jacobian's leading columns.
+  virtual Eigen::MatrixXd conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+    return momentum_jacobian(q, v, 1.0, 0.0).leftCols(num_conserved());
+  }
 
   // Contacts and their history. A system with one-sided contacts reports their signed gaps
   // (> 0 open) so the stepper can locate each closing in time, and keeps what the contacts

@@ -24,13 +24,33 @@ Matrix3<typename Derived::Scalar> skew(const Eigen::MatrixBase<Derived>& a) {
   return S;
 }
 
-/// Rot(n, theta) = I + sin(theta) n~ + (1 - cos(theta)) n~^2 for a unit axis n.
+/// Rot(n, theta) = I + sin(theta) N + (1 - cos(theta)) N^2 for a unit axis n, N = n~ and N2 = N^2
+/// given (a hinge's are computed once).
 template <class S>
-Matrix3<S> rotation_about(const Eigen::Vector3d& n, const S& theta) {
+Matrix3<S> rotation_about(const Eigen::Matrix3d& N, const Eigen::Matrix3d& N2, const S& theta) {
   using std::cos;
   using std::sin;
+  const S s = sin(theta), c = S(1.0) - cos(theta);
+  Matrix3<S> R;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R(i, j) = (i == j ? S(1.0) : S(0.0)) + s * N(i, j) + c * N2(i, j);
+  return R;
+}
+
+/// Rot(n, theta) for a unit axis n.
+template <class S>
+Matrix3<S> rotation_about(const Eigen::Vector3d& n, const S& theta) {
   const Eigen::Matrix3d N = skew(n);
-  return Matrix3<S>::Identity() + sin(theta) * N.cast<S>() + (S(1.0) - cos(theta)) * (N * N).eval().cast<S>();
+  return rotation_about<S>(N, N * N, theta);
+}
+
+/// A * B for a constant B (the mixed product costs two multiplications an entry on Duals).
+template <class S>
+Matrix3<S> times_constant(const Matrix3<S>& A, const Eigen::Matrix3d& B) {
+  Matrix3<S> C;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) C(i, j) = A(i, 0) * B(0, j) + A(i, 1) * B(1, j) + A(i, 2) * B(2, j);
+  return C;
 }
 
 namespace so3_detail {

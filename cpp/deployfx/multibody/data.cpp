@@ -56,7 +56,15 @@ Vector6<double> attachment_coordinates(const Attachment& att, const Eigen::Vecto
 
 void forward_kinematics(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                         const Eigen::VectorXd* a, double t) {
+  // Staged already at this state (a caller without accelerations reads none).
+  if ((t == d.t || !m.driven()) && q.size() == d.staged_q.size() && q == d.staged_q && v == d.staged_v &&
+      (!a || (d.staged_a && *a == d.staged_accel)))
+    return;
   d.t = t;
+  d.staged_q = q;
+  d.staged_v = v;
+  d.staged_a = a != nullptr;
+  if (a) d.staged_accel = *a;
   for (int k : m.panels()) {
     const Body& b = m.body(k);
     PanelState& s = d.elastic[static_cast<std::size_t>(k)];

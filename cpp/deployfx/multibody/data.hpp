@@ -35,6 +35,16 @@ class Data {
   std::vector<PanelState> elastic;         ///< per hinge (empty vectors without a panel)
   // Stage: forward kinematics.
   TreeMotion<double> motion;
+  /// The state the stages above were computed at (a Newton iteration asks for its residual, its
+  /// momentum and, for a fresh matrix, its Jacobians at one state: staged once). `staged_a`:
+  /// with accelerations (else they were 0).
+  Eigen::VectorXd staged_q, staged_v, staged_accel;
+  bool staged_a = false;
+
+  // Scratch of the residual and outputs (sizes kept between calls).
+  std::vector<Vector6<double>> wrench;  ///< per hinge: its body's inertial wrench
+  std::vector<Eigen::VectorXd> Q;       ///< per hinge: its panel's generalized inertial force
+  Wrenches<double> wrenches;
 
   /// Forgets the history (a new run).
   void reset_history();

@@ -95,7 +95,8 @@ void forward_kinematics(const Model& m, const BaseMotion<S>& base, const std::ve
     const Vector3<S>& o = C.o;
     C.n = R_att * h.axis.cast<S>();
     const Vector3<S>& n = C.n;
-    C.R_PC = R_att * rotation_about<S>(h.axis, J.theta) * h.R_PC0.cast<S>();
+    const Matrix3<S> R_rel = times_constant<S>(rotation_about<S>(b.axis_skew, b.axis_skew2, J.theta), h.R_PC0);
+    C.R_PC = b.attachment ? Matrix3<S>(R_att * R_rel) : R_rel;
     const Matrix3<S> R_CP = C.R_PC.transpose();
     const Vector3<S> w_rel = w_att + J.rate * n;
     C.R_WC = R_WP * C.R_PC;
@@ -120,14 +121,16 @@ struct Wrenches {
 };
 
 template <class S>
-void backward_pass(const Model& m, const TreeMotion<S>& motion, std::vector<Vector6<S>> f, Wrenches<S>& out) {
+void backward_pass(const Model& m, const TreeMotion<S>& motion, const std::vector<Vector6<S>>& f, Wrenches<S>& out) {
   const int N = m.num_hinges();
   out.root.setZero();
   out.hinge.assign(static_cast<std::size_t>(N), S(0.0));
   out.attach.assign(static_cast<std::size_t>(N), Vector6<S>::Zero());
+  out.subtree.assign(f.begin(), f.end());  // accumulated in place, children (higher indices) first
+  std::vector<Vector6<S>>& W_all = out.subtree;
   for (int k = N - 1; k >= 0; --k) {
     const BodyMotion<S>& C = motion.body[static_cast<std::size_t>(k)];
-    const Vector6<S>& W = f[static_cast<std::size_t>(k)];
+    const Vector6<S>& W = W_all[static_cast<std::size_t>(k)];
     const Vector3<S> F_P = C.R_PC * W.template head<3>(), M_P = C.R_PC * W.template tail<3>();
     out.hinge[static_cast<std::size_t>(k)] = C.n.dot(M_P);
     if (m.body(k).attachment) {
@@ -136,11 +139,10 @@ void backward_pass(const Model& m, const TreeMotion<S>& motion, std::vector<Vect
       tz.template tail<3>() = C.T.transpose() * (C.rho.cross(F_P) + M_P);
     }
     const int p = m.body(k).parent;
-    Vector6<S>& into = p < 0 ? out.root : f[static_cast<std::size_t>(p)];
+    Vector6<S>& into = p < 0 ? out.root : W_all[static_cast<std::size_t>(p)];
     into.template head<3>() += F_P;
     into.template tail<3>() += C.o.cross(F_P) + M_P;
   }
-  out.subtree = std::move(f);
 }
 
 }  // namespace deployfx::multibody

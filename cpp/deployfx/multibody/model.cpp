@@ -111,6 +111,8 @@ Model::Model(TreeSpec spec) : spec_(std::move(spec)) {
     const HingeSpec& h = spec_.hinges[k];
     Body& b = bodies_[k];
     b.rigid = h.body;
+    b.axis_skew = skew(h.axis);
+    b.axis_skew2 = b.axis_skew * b.axis_skew;
     if (!h.panel) continue;
     const std::string name = "hinges[" + std::to_string(k) + "].panel";
     const AppendageSpec& a = *h.panel;
@@ -162,6 +164,16 @@ Model::Model(TreeSpec spec) : spec_(std::move(spec)) {
     nv_ += b.n_el;
   }
   build_pattern();
+  if (base_free())
+    for (int i = 0; i < kBaseVelocities; ++i) seeds_.push_back({Seed::kBase, i, 0});
+  for (int k = 0; k < N; ++k)
+    if (bodies_[k].iv_theta >= 0) seeds_.push_back({Seed::kHinge, k, 0});
+  attachment_seed_.assign(static_cast<std::size_t>(N), -1);
+  for (int k = 0; k < N; ++k) {
+    if (!bodies_[k].attachment) continue;
+    attachment_seed_[k] = static_cast<int>(seeds_.size());
+    for (int c = 0; c < 6; ++c) seeds_.push_back({Seed::kAttachment, k, c});
+  }
 }
 
 void Model::build_pattern() {

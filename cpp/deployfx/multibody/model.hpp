@@ -38,9 +38,18 @@ struct Body {
   RigidInertia rigid;           ///< everything rigid in C (a rigid panel merged in)
   std::shared_ptr<const body::FlexibleBody> panel;  ///< a deforming panel in C (null: none or rigid)
   std::optional<Attachment> attachment;             ///< hinge k on a deforming parent panel
+  Eigen::Matrix3d axis_skew, axis_skew2;  ///< N = axis~ and N^2 (Rot(axis, theta) = I + sin N + (1 - cos) N^2)
   int iq_theta = -1, iv_theta = -1;  ///< the hinge angle's coordinate (-1: driven)
   int n_el = 0, iq_el = -1, iv_el = -1;  ///< the panel's elastic coordinates (0, -1: none)
   int ie = -1;                       ///< their first row in the Newton matrix's elastic block
+};
+
+/// A coordinate the Newton matrix and the momentum Jacobian differentiate by a derivative pass
+/// of the kinematics (seeds.hpp): a border coordinate or an attachment's z_m.
+struct Seed {
+  enum Kind { kBase, kHinge, kAttachment } kind;
+  int index;      ///< base coordinate (0-2: v_W, 3-5: w_B) or hinge k
+  int component;  ///< attachment coordinate z_m, m in 0..5
 };
 
 /// The elastic block's sparsity: each panel's own block (fem/free_block.hpp) on the diagonal, and
@@ -85,7 +94,14 @@ class Model {
   /// A free base with no prescribed hinge conserves [P_W; H_W] (the paper's Eq. 36-43); a
   /// prescribed theta(t) makes Pi depend on t.
   int num_conserved() const { return base_free() && !driven_ ? 6 : 0; }
+  /// Whether a hinge's angle is prescribed (the kinematics then depend on t).
+  bool driven() const { return driven_; }
   const ElasticPattern& pattern() const { return pattern_; }
+  /// The derivative passes' coordinates: the border's in the velocity ordering (base, then
+  /// undriven hinges), then six per hinge on a panel, in hinge order.
+  const std::vector<Seed>& seeds() const { return seeds_; }
+  /// The first of hinge k's attachment seeds (-1: on the base or a rigid body).
+  int attachment_seed(int k) const { return attachment_seed_[static_cast<std::size_t>(k)]; }
 
   /// The stowed configuration: base at rest at W's origin (identity attitude), every theta = 0,
   /// every panel undeformed.
@@ -102,6 +118,8 @@ class Model {
   bool driven_ = false;
   int nq_ = 0, nv_ = 0, nb_ = 0;
   ElasticPattern pattern_;
+  std::vector<Seed> seeds_;
+  std::vector<int> attachment_seed_;
   void build_pattern();
 };
 

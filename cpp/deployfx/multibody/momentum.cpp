@@ -55,8 +55,8 @@ Vector6<double> base_momentum(const Model& m, const Data& d) {
   return to_world<double>(b.R_WB, b.r_W, m.spec().base.inertia.momentum(b.V_B, b.w_B));
 }
 
-Eigen::VectorXd momentum(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-  forward_kinematics(m, d, q, v, nullptr, d.t);
+Eigen::VectorXd momentum(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
+  forward_kinematics(m, d, q, v, nullptr, t);
   Vector6<double> Pi = base_momentum(m, d);
   for (int k = 0; k < m.num_hinges(); ++k) {
     const BodyMotion<double>& C = d.motion.body[k];
@@ -65,53 +65,70 @@ Eigen::VectorXd momentum(const Model& m, Data& d, const Eigen::VectorXd& q, cons
   return Pi;
 }
 
-Eigen::MatrixXd momentum_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                  double c_v, double c_q) {
-  forward_kinematics(m, d, q, v, nullptr, d.t);
+Eigen::Matrix<double, 6, 6> base_velocity_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q) {
+  forward_kinematics(m, d, q, Eigen::VectorXd::Zero(m.num_velocities()), nullptr, d.t);
+  // X = [R 0; o~ R R] carries a body's momentum (its axes, about its origin) to W about W's
+  // origin; X^T its velocity the other way.
+  auto congruence = [](const Matrix6d& M, const Eigen::Matrix3d& R, const Eigen::Vector3d& o) {
+    Matrix6d X = Matrix6d::Zero();
+    X.topLeftCorner<3, 3>() = R;
+    X.bottomLeftCorner<3, 3>() = skew(o) * R;
+    X.bottomRightCorner<3, 3>() = R;
+    return Matrix6d(X * M * X.transpose());
+  };
+  const BaseMotion<double>& b = d.motion.base;
+  Matrix6d I_O = congruence(m.spec().base.inertia.spatial(), b.R_WB, b.r_W);
+  for (int k = 0; k < m.num_hinges(); ++k) {
+    Vector6<double> e;
+    const BodyMotion<double>& C = d.motion.body[k];
+    I_O += congruence(spatial_inertia(m, d, k, &e), C.R_WC, C.o_W);
+  }
+  Matrix6d T = Matrix6d::Zero();  // (v_W, w_B) -> (velocity of the point at W's origin, w), W axes
+  T.topLeftCorner<3, 3>().setIdentity();
+  T.topRightCorner<3, 3>() = skew(b.r_W) * b.R_WB;
+  T.bottomRightCorner<3, 3>() = b.R_WB;
+  return I_O * T;
+}
+
+void MomentumTangent::prepare(const Model& m, Data& d) {
   const int N = m.num_hinges();
-  std::vector<Matrix6d> ME(N);
-  std::vector<Vector6<double>> p(N);
+  ME.resize(N);
+  p.resize(N);
   for (int k = 0; k < N; ++k) {
     Vector6<double> e;
     ME[k] = spatial_inertia(m, d, k, &e);
     p[k] = ME[k] * velocity(d.motion.body[k]) + e;
   }
-  const Matrix6d Mb = m.spec().base.inertia.spatial();
-  const BaseMotion<double>& b0 = d.motion.base;
-  Vector6<double> pb;
-  pb << b0.V_B, b0.w_B;
+  Mb = m.spec().base.inertia.spatial();
+  const BaseMotion<double>& b = d.motion.base;
+  pb << b.V_B, b.w_B;
   pb = (Mb * pb).eval();
+}
 
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6, m.num_velocities());
-  // Border and attachment coordinates: derivative passes of the kinematics (no accelerations).
-  std::vector<int> att_start;
-  const std::vector<Seed> seeds = derivative_seeds(m, &att_start);
-  BaseMotion<Dual> base;
-  std::vector<JointState<Dual>> joints;
-  TreeMotion<Dual> motion;
-  Eigen::MatrixXd T(6, static_cast<Eigen::Index>(seeds.size()));
-  for (std::size_t col = 0; col < seeds.size(); ++col) {
-    seeded_state(m, d, seeds[col], c_q, c_v, 0.0, base, joints);
-    forward_kinematics<Dual>(m, base, joints, motion);
-    Vector6<Dual> Pi = Vector6<Dual>::Zero();
-    if (m.base_free()) {
-      Vector6<double> nu;
-      nu << tangent(base.V_B), tangent(base.w_B);
-      Pi += to_world<Dual>(base.R_WB, base.r_W, dual(pb, Vector6<double>(Mb * nu)));
-    }
-    for (int k = 0; k < N; ++k) {
-      const BodyMotion<Dual>& C = motion.body[k];
-      Vector6<double> nu;
-      nu << tangent(C.V), tangent(C.w);
-      Pi += to_world<Dual>(C.R_WC, C.o_W, dual(p[k], Vector6<double>(ME[k] * nu)));
-    }
-    T.col(static_cast<Eigen::Index>(col)) = tangent(Pi);
+Vector6<double> MomentumTangent::tangent(const Model& m, const BaseMotion<Dual>& base,
+                                        const TreeMotion<Dual>& motion) const {
+  // Each body's momentum is linear in its (V, w) for the staged d, d': its tangent is M (V, w)'.
+  Vector6<Dual> Pi = Vector6<Dual>::Zero();
+  Vector6<double> nu;
+  if (m.base_free()) {
+    nu << multibody::tangent(base.V_B), multibody::tangent(base.w_B);
+    Pi += to_world<Dual>(base.R_WB, base.r_W, dual(pb, Vector6<double>(Mb * nu)));
   }
+  for (int k = 0; k < m.num_hinges(); ++k) {
+    const BodyMotion<Dual>& C = motion.body[k];
+    nu << multibody::tangent(C.V), multibody::tangent(C.w);
+    Pi += to_world<Dual>(C.R_WC, C.o_W, dual(p[k], Vector6<double>(ME[k] * nu)));
+  }
+  return multibody::tangent(Pi);
+}
+
+Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd& T, double c_v, double c_q) {
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6, m.num_velocities());
   J.leftCols(m.border()) = T.leftCols(m.border());
-  for (int k = 0; k < N; ++k) {
+  for (int k = 0; k < m.num_hinges(); ++k) {
     const Body& b = m.body(k);
     if (!b.attachment) continue;
-    const Eigen::MatrixXd Jz = T.middleCols(att_start[k], 6) * b.attachment->P_cols;
+    const Eigen::MatrixXd Jz = T.middleCols(m.attachment_seed(k), 6) * b.attachment->P_cols;
     const Body& parent = m.body(b.parent);
     for (std::size_t i = 0; i < b.attachment->cols.size(); ++i)
       J.col(parent.iv_el + b.attachment->cols[i]) += Jz.col(static_cast<Eigen::Index>(i));
@@ -138,6 +155,25 @@ Eigen::MatrixXd momentum_jacobian(const Model& m, Data& d, const Eigen::VectorXd
     }
   }
   return J;
+}
+
+Eigen::MatrixXd momentum_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                  double c_v, double c_q) {
+  forward_kinematics(m, d, q, v, nullptr, d.t);
+  MomentumTangent pass;
+  pass.prepare(m, d);
+  // Border and attachment coordinates: derivative passes of the kinematics (no accelerations).
+  const std::vector<Seed>& seeds = m.seeds();
+  BaseMotion<Dual> base;
+  std::vector<JointState<Dual>> joints;
+  TreeMotion<Dual> motion;
+  Eigen::MatrixXd T(6, static_cast<Eigen::Index>(seeds.size()));
+  for (std::size_t col = 0; col < seeds.size(); ++col) {
+    seeded_state(m, d, seeds[col], c_q, c_v, 0.0, base, joints);
+    forward_kinematics<Dual>(m, base, joints, motion);
+    T.col(static_cast<Eigen::Index>(col)) = pass.tangent(m, base, motion);
+  }
+  return momentum_columns(m, d, T, c_v, c_q);
 }
 
 }  // namespace deployfx::multibody

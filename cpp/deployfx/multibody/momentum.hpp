@@ -10,15 +10,38 @@
 #include <Eigen/Core>
 
 #include "deployfx/multibody/data.hpp"
+#include "deployfx/math/dual.hpp"
+#include <vector>
 
 namespace deployfx::multibody {
 
 /// Body k's momentum about C's origin, C axes, at its staged motion (p; h).
 Vector6<double> body_momentum(const Model& m, Data& d, int k);
-/// Pi(q, v), (6); stages the kinematics (without accelerations) in d.
-Eigen::VectorXd momentum(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+/// Pi(q, v) at time t (which matters for prescribed hinges only), (6); stages the kinematics
+/// (without accelerations) in d.
+Eigen::VectorXd momentum(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t);
 /// The base's own momentum in W (P; H about W's origin), at the staged motion.
 Vector6<double> base_momentum(const Model& m, const Data& d);
+/// dPi/d(v_W, w_B) (6 x 6) for a free base: every body moving rigidly with the base, the
+/// composite inertia of the whole system about W's origin, I_O = sum_b X_b M_b X_b^T, applied to
+/// the base's velocity at W's origin, (v_W - w x r_W, w), w = R_WB w_B (Featherstone 2008,
+/// Sec. 6.2: the composite rigid body). Equal to momentum_jacobian's base columns at c_q = 0;
+/// stages the kinematics in d.
+Eigen::Matrix<double, 6, 6> base_velocity_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q);
+/// The momentum's tangent along a derivative pass (seeds.hpp) at the staged state: each body's
+/// spatial inertia and momentum there, prepared once for all the passes.
+struct MomentumTangent {
+  Eigen::Matrix<double, 6, 6> Mb;
+  Vector6<double> pb;
+  std::vector<Eigen::Matrix<double, 6, 6>> ME;
+  std::vector<Vector6<double>> p;
+  void prepare(const Model& m, Data& d);
+  /// The tangent of Pi for the pass's motion (base and bodies on Duals), (6).
+  Vector6<double> tangent(const Model& m, const BaseMotion<Dual>& base, const TreeMotion<Dual>& motion) const;
+};
+/// c_v dPi/dv + c_q dPi/dq from the derivative passes' tangents T (6 x Model::seeds(), taken
+/// with these coefficients) and each panel's own columns in closed form, at the staged state.
+Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd& T, double c_v, double c_q);
 /// c_v dPi/dv + c_q dPi/dq (dq along Model::retract), (6 x nv); stages the kinematics in d.
 Eigen::MatrixXd momentum_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                   double c_v, double c_q);

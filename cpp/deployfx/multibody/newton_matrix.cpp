@@ -4,6 +4,7 @@
 
 #include "deployfx/body/rigid_force_jacobian.hpp"
 #include "deployfx/multibody/forces.hpp"
+#include "deployfx/multibody/momentum.hpp"
 #include "deployfx/multibody/seeds.hpp"
 
 namespace deployfx::multibody {
@@ -35,7 +36,8 @@ std::vector<int> attachments_above(const Model& m, int j) {
 }  // namespace
 
 integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                     const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q) {
+                                     const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q,
+                                     Eigen::MatrixXd* momentum_jacobian) {
   forward_kinematics(m, d, q, v, &a, t);
   const int N = m.num_hinges(), nb = m.border(), ne = m.elastic();
 
@@ -67,9 +69,15 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
 
   // 2. The derivative passes (seeds.hpp): the border rows' tangents BR, each panel's motion
   // tangent T9 = d(a, al, w) and each attachment's generalized force's tangent TZ, per column.
-  std::vector<int> att_start;
-  const std::vector<Seed> seeds = derivative_seeds(m, &att_start);
+  const std::vector<Seed>& seeds = m.seeds();
   const int nc = static_cast<int>(seeds.size());
+  const bool with_momentum = momentum_jacobian && c_v > 0;
+  MomentumTangent momentum;
+  Eigen::MatrixXd PT;  // the momentum's tangents, (6 x nc)
+  if (with_momentum) {
+    momentum.prepare(m, d);
+    PT.resize(6, nc);
+  }
   Eigen::MatrixXd BR = Eigen::MatrixXd::Zero(nb, nc);
   std::vector<Eigen::Matrix<double, 9, Eigen::Dynamic>> T9(N);
   std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> TZ(N);
@@ -91,6 +99,7 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
       if (m.body(k).panel) T9[k].col(col) = t9;
     }
     backward_pass<Dual>(m, motion, fd, W);
+    if (with_momentum) PT.col(col) = momentum.tangent(m, base, motion);
     if (m.base_free()) {
       const Vector6<Dual> fbd = dual(fb, Vector6<double>(Gb * motion_tangent(base.a_B, base.wd_B, base.w_B))) + W.root;
       BR.block<3, 1>(0, col) = tangent(Vector3<Dual>(base.R_WB * fbd.head<3>()));
@@ -117,6 +126,8 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
       Y.row(p + b.attachment->cols[i]) += b.attachment->P_cols.col(static_cast<Eigen::Index>(i)).transpose() * TZ[k];
   }
 
+  if (with_momentum) *momentum_jacobian = momentum_columns(m, d, PT / c_v, 1.0, c_q / c_v);
+
   integrate::BlockMatrix S;
   S.A = BR.leftCols(nb);
   S.C = Y.leftCols(nb);
@@ -135,8 +146,8 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
     if (!b.attachment) continue;
     const Attachment& att = *b.attachment;
     const int p = m.body(b.parent).ie;
-    const Eigen::MatrixXd Bz = BR.middleCols(att_start[k], 6) * att.P_cols;
-    const Eigen::MatrixXd Ez = Y.middleCols(att_start[k], 6) * att.P_cols;
+    const Eigen::MatrixXd Bz = BR.middleCols(m.attachment_seed(k), 6) * att.P_cols;
+    const Eigen::MatrixXd Ez = Y.middleCols(m.attachment_seed(k), 6) * att.P_cols;
     for (std::size_t i = 0; i < att.cols.size(); ++i) S.B.col(p + att.cols[i]) += Bz.col(static_cast<Eigen::Index>(i));
     const ElasticPattern::Coupling& cp = *pattern.couplings[k];
     for (std::size_t r = 0; r < cp.rows.size(); ++r)

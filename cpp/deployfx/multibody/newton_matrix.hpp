@@ -18,8 +18,11 @@
 
 namespace deployfx::multibody {
 
-/// S at (q, v, a, t) with the coefficients (c_a, c_v, c_q); stages the kinematics in d.
+/// S at (q, v, a, t) with the coefficients (c_a, c_v, c_q); stages the kinematics in d. With
+/// `momentum_jacobian` (and c_v > 0), also (1/c_v)(c_v dPi/dv + c_q dPi/dq) from the same
+/// derivative passes (momentum.hpp): what an integrator's momentum rows need with the matrix.
 integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                     const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q);
+                                     const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q,
+                                     Eigen::MatrixXd* momentum_jacobian = nullptr);
 
 }  // namespace deployfx::multibody

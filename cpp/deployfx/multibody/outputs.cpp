@@ -21,7 +21,7 @@ Outputs outputs(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::
   std::vector<Vector6<double>> f(N);
   for (int k = 0; k < N; ++k) f[k] = inertial_wrench(m, d, k, nullptr);
   Wrenches<double> W;
-  backward_pass<double>(m, d.motion, std::move(f), W);
+  backward_pass<double>(m, d.motion, f, W);
   o.kinetic = 0;
   o.potential = 0;
   for (int k = 0; k < N; ++k) {

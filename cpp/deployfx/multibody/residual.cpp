@@ -8,11 +8,13 @@ Eigen::VectorXd residual(const Model& m, Data& d, const Eigen::VectorXd& q, cons
                          const Eigen::VectorXd& a, double t) {
   forward_kinematics(m, d, q, v, &a, t);
   const int N = m.num_hinges();
-  std::vector<Vector6<double>> f(static_cast<std::size_t>(N));
-  std::vector<Eigen::VectorXd> Q(static_cast<std::size_t>(N));
+  std::vector<Vector6<double>>& f = d.wrench;
+  std::vector<Eigen::VectorXd>& Q = d.Q;
+  f.resize(static_cast<std::size_t>(N));
+  Q.resize(static_cast<std::size_t>(N));
   for (int k = 0; k < N; ++k) f[k] = inertial_wrench(m, d, k, &Q[k]);
-  Wrenches<double> W;
-  backward_pass<double>(m, d.motion, std::move(f), W);
+  Wrenches<double>& W = d.wrenches;
+  backward_pass<double>(m, d.motion, f, W);
 
   Eigen::VectorXd r = Eigen::VectorXd::Zero(m.num_velocities());
   if (m.base_free()) {

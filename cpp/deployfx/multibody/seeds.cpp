@@ -4,21 +4,6 @@
 
 namespace deployfx::multibody {
 
-std::vector<Seed> derivative_seeds(const Model& m, std::vector<int>* attachment_start) {
-  std::vector<Seed> s;
-  if (m.base_free())
-    for (int i = 0; i < kBaseVelocities; ++i) s.push_back({Seed::kBase, i, 0});
-  for (int k = 0; k < m.num_hinges(); ++k)
-    if (m.body(k).iv_theta >= 0) s.push_back({Seed::kHinge, k, 0});
-  if (attachment_start) attachment_start->assign(static_cast<std::size_t>(m.num_hinges()), -1);
-  for (int k = 0; k < m.num_hinges(); ++k) {
-    if (!m.body(k).attachment) continue;
-    if (attachment_start) (*attachment_start)[k] = static_cast<int>(s.size());
-    for (int c = 0; c < 6; ++c) s.push_back({Seed::kAttachment, k, c});
-  }
-  return s;
-}
-
 void seeded_state(const Model& m, const Data& d, const Seed& s, double c_q, double c_v, double c_a,
                   BaseMotion<Dual>& base, std::vector<JointState<Dual>>& joints) {
   const BaseMotion<double>& b = d.motion.base;

@@ -13,16 +13,6 @@
 
 namespace deployfx::multibody {
 
-struct Seed {
-  enum Kind { kBase, kHinge, kAttachment } kind;
-  int index;      ///< base coordinate (0-2: v_W, 3-5: w_B) or hinge k
-  int component;  ///< attachment coordinate z_m, m in 0..5
-};
-
-/// The border coordinates in the velocity ordering (base, then undriven hinges), then six per
-/// hinge on a panel, in hinge order. `attachment_start[k]`: the first of hinge k's (-1: none).
-std::vector<Seed> derivative_seeds(const Model& m, std::vector<int>* attachment_start);
-
 /// The state of Data (staged by forward_kinematics) on Duals, seeded along `s` with the
 /// coefficients (c_q, c_v, c_a); the base's attitude moves along retract(), R_WB exp(dpsi~).
 void seeded_state(const Model& m, const Data& d, const Seed& s, double c_q, double c_v, double c_a,

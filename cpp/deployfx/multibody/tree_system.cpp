@@ -20,13 +20,25 @@ integrate::BlockMatrix TreeSystem::iteration_matrix(const Eigen::VectorXd& q, co
   return newton_matrix(m_, d_, q, v, a, t, c_a, c_v, c_q);
 }
 
+integrate::BlockMatrix TreeSystem::iteration_matrix_and_momentum_jacobian(const Eigen::VectorXd& q,
+                                                                          const Eigen::VectorXd& v,
+                                                                          const Eigen::VectorXd& a, double t,
+                                                                          double c_a, double c_v, double c_q,
+                                                                          Eigen::MatrixXd& momentum_jacobian) {
+  return newton_matrix(m_, d_, q, v, a, t, c_a, c_v, c_q, &momentum_jacobian);
+}
+
 Eigen::VectorXd TreeSystem::momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-  return multibody::momentum(m_, d_, q, v);
+  return multibody::momentum(m_, d_, q, v, d_.t);
 }
 
 Eigen::MatrixXd TreeSystem::momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
                                               double c_q) {
   return multibody::momentum_jacobian(m_, d_, q, v, c_v, c_q);
+}
+
+Eigen::MatrixXd TreeSystem::conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd&) {
+  return base_velocity_jacobian(m_, d_, q);
 }
 
 Eigen::VectorXd TreeSystem::gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double) {
