@@ -43,9 +43,11 @@ class Uniform:
             raise ValueError(f"Uniform(low={lo!r}, high={hi!r}) is invalid: must have low < high")
 
     def ppf(self, u: np.ndarray) -> np.ndarray:
+        """The inverse CDF at ``u`` in [0, 1): low + (high - low) u."""
         return self.low + (self.high - self.low) * u
 
     def to_dict(self) -> dict:
+        """The study file's table: {distribution = "uniform", low, high}."""
         return {"distribution": "uniform", "low": float(self.low), "high": float(self.high)}
 
 
@@ -64,10 +66,12 @@ class LogUniform:
                              "0 < low < high")
 
     def ppf(self, u: np.ndarray) -> np.ndarray:
+        """The inverse CDF at ``u`` in [0, 1): exp(log low + (log high - log low) u)."""
         a, b = math.log(self.low), math.log(self.high)
         return np.exp(a + (b - a) * u)
 
     def to_dict(self) -> dict:
+        """The study file's table: {distribution = "loguniform", low, high}."""
         return {"distribution": "loguniform", "low": float(self.low), "high": float(self.high)}
 
 
@@ -94,6 +98,8 @@ class Normal:
                              "low < high")
 
     def ppf(self, u: np.ndarray) -> np.ndarray:
+        """The inverse CDF at ``u`` (clipped to [2^-53, 1 - 2^-53], so an untruncated tail
+        stays finite): scipy.stats.norm, or truncnorm between low and high."""
         from scipy import stats
 
         u = np.clip(u, _U_EDGE, 1.0 - _U_EDGE)
@@ -103,6 +109,7 @@ class Normal:
         return stats.truncnorm.ppf(u, a, b, self.mean, self.std)
 
     def to_dict(self) -> dict:
+        """The study file's table: {distribution = "normal", mean, std[, low][, high]}."""
         d = {"distribution": "normal", "mean": float(self.mean), "std": float(self.std)}
         d.update({k: float(getattr(self, k)) for k in ("low", "high")
                   if math.isfinite(getattr(self, k))})
@@ -130,6 +137,7 @@ class Levels:
         object.__setattr__(self, "values", values)
 
     def to_dict(self) -> dict:
+        """The study file's table: {levels = [...]}."""
         return {"levels": list(self.values)}
 
 
