@@ -23,6 +23,7 @@ import deployfx
 
 NOTEBOOKS = Path(__file__).resolve().parent.parent / "notebooks"
 T_END_S = "3.0"  # s: past the first lock (about 2.5 s and 2.1 s), short enough for the suite
+STUDY_SAMPLES = "4"  # notebook 3: Saltelli's base sample count N (7 N = 28 deployments)
 
 # notebook: (minimum number of figures, texts that must be printed, output types that must exist)
 EXPECTED = {
@@ -33,6 +34,9 @@ EXPECTED = {
         3, ["ValueError: hinge.axis", "rigid: first lock", "nonlinear: first lock",
             "identical: True", "rigid panels only", "array: panel 2 (hinge 2) first locks at"],
         ["text/html"]),
+    "03_monte_carlo_study.ipynb": (
+        4, ["28 deployments computed, 0 failed", "lock load over 28 deployments: mean",
+            "Sobol' indices (S1, ST", "damping.alpha_M"], ["text/html"]),
 }
 
 
@@ -51,7 +55,11 @@ def test_notebook_is_stored_without_outputs(name):
 
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_notebook_runs(name, tmp_path, monkeypatch):
+    if name.startswith("03"):  # the study extra (Python >= 3.11)
+        for module in ("distributed", "xarray", "zarr", "SALib"):
+            pytest.importorskip(module)
     monkeypatch.setenv("DEPLOYFX_NOTEBOOK_T_END", T_END_S)
+    monkeypatch.setenv("DEPLOYFX_STUDY_SAMPLES", STUDY_SAMPLES)
     # The kernel imports the deployfx this test imported (installed or from a source tree).
     package_root = str(Path(deployfx.__file__).resolve().parent.parent)
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join(filter(None, [package_root,

@@ -204,6 +204,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--out", help="directory for summary.json, the time series (CSV) and the figures")
     r.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
     r.set_defaults(run=_run)
+    from ._study_cli import add_study_parser  # deployfx study run/report (issue 26)
+
+    add_study_parser(sub)
     return p
 
 
