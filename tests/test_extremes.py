@@ -38,6 +38,11 @@ def rigid_scene(**overrides):
     return scenes.paper2016(2, "rigid", nx=2, ny=1, **overrides)
 
 
+def simulate(scene, t_end, dt, **options):
+    """The paper scene's run, its one hinge's view (Result.hinge(0): per-hinge series (n,))."""
+    return scene.simulate(t_end, dt, **options).hinge(0)
+
+
 class TwoBody:
     """The zero-momentum planar reduction above, for the paper scene's parameters (overridable)."""
 
@@ -134,7 +139,7 @@ def penetration_bound(K, D, r=PAPER.pin_radius):
 def test_contact_stiffness_range_at_the_papers_step(K):
     # Rigid panel, the paper's lock (pin at 30 mm, 0.2 mm play, mu = 0.25) and step (0.01 s).
     law = ContactLaw("paper", K=K, n=1.5, D=PAPER.contact.D)
-    r = rigid_scene(contact=law).simulate(4.0, 0.01)  # raises SimulationError if it diverges
+    r = simulate(rigid_scene(contact=law), 4.0, 0.01)  # raises SimulationError if it diverges
     assert finite(r)
     # No missed impact: the onset is located at the quadrature's time to the stop (2.4511 s),
     # whatever K (measured 9e-6 s off at dt = 0.01 s): 1e-4 s.
@@ -174,17 +179,18 @@ def test_an_open_wall_event_is_its_gap_even_where_the_law_would_pull():
     # 1 um inside and leaving at 0.1 m/s (force 32 N - 1e5 N < 0) crossed the wall within the
     # step: its event is -delta = -1e-6 m (exact), where minus that force (+1e5 N) hid the tap.
     # Approaching from 1 um outside, the event is the gap, +1e-6 m. q = [r_W, quaternion, theta],
-    # v = [v_W, w_B, theta'] (system/hinged_system.hpp).
-    system = rigid_scene().model.system
+    # v = [v_W, w_B, theta'] (Model.layout); lock_events gives (stop, latch) per locked hinge.
+    system = rigid_scene().model.core
+    assert system.layout(0)["iq_theta"] == 7 and system.layout(0)["iv_theta"] == 6
     q, v = system.initial_positions(), np.zeros(system.num_velocities)
     r = PAPER.pin_radius
     for delta, rate, expected in [(1e-6, -0.1 / r, -1e-6), (-1e-6, 0.1 / r, 1e-6)]:
         q[7], v[6] = THETA_LOCK + delta / r, rate
-        stop, latch = system.gaps(q, v, 0.0)
+        stop, latch = system.lock_events(q, v, data=system.make_data())
         assert stop == pytest.approx(expected, rel=1e-9)
         assert latch == np.inf  # not latched yet
     with pytest.raises(ValueError, match="must have sizes"):
-        system.gaps(q[:-1], v, 0.0)
+        system.lock_events(q[:-1], v)
 
 
 def first_impact_reference(law, r=PAPER.pin_radius, mu=PAPER.friction.mu, v_reg=PAPER.friction.v_reg):
@@ -216,9 +222,9 @@ def first_impact_reference(law, r=PAPER.pin_radius, mu=PAPER.friction.mu, v_reg=
 
 @functools.lru_cache(maxsize=None)
 def state_before_the_stop(law):
-    system = rigid_scene(contact=law).model.system
-    pre = _core.simulate_hinged(system, system.initial_positions(), np.zeros(system.num_velocities), 2.44,
-                                0.01, GeneralizedAlpha(0.8)._params())
+    system = rigid_scene(contact=law).model.core
+    pre = _core.simulate(system, system.initial_positions(), np.zeros(system.num_velocities), t_end=2.44,
+                         dt=0.01, scheme=GeneralizedAlpha(0.8)._params())
     assert pre["failure"] == ""
     return system, pre["q"][-1], pre["v"][-1]
 
@@ -237,10 +243,10 @@ def test_first_impact_penetration_matches_the_reduced_model(kind, K):
     ref, t_max = first_impact_reference(law)
     system, q, v = state_before_the_stop(law)
     dt = float(np.clip(t_max / 1000, 1e-5, 1e-3))
-    tr = _core.simulate_hinged(system, q, v, 0.02 + 1.2 * t_max, dt, GeneralizedAlpha(0.8)._params())
+    tr = _core.simulate(system, q, v, t_end=0.02 + 1.2 * t_max, dt=dt, scheme=GeneralizedAlpha(0.8)._params())
     assert tr["failure"] == ""
     assert np.all(np.isfinite(tr["theta"]))
-    delta = PAPER.pin_radius * (tr["theta"].max() - THETA_LOCK)
+    delta = PAPER.pin_radius * (tr["theta"][:, 0].max() - THETA_LOCK)
     assert delta == pytest.approx(ref, rel=5e-3)
     assert tr["lock_force"].max() > 0
 
@@ -255,7 +261,7 @@ def test_contact_stiffness_extremes_with_a_flexible_panel(K):
     # 1e12; at 1e3 the ringing plate's root moment pushes the pin 1.1 deg into the dashpot-like
     # wall, well inside the bound, which only the impulse of a single impact makes tight).
     law = ContactLaw("paper", K=K, n=1.5, D=PAPER.contact.D)
-    r = scenes.paper2016(2, "linear", nx=2, ny=1, contact=law).simulate(3.5, 0.01)
+    r = simulate(scenes.paper2016(2, "linear", nx=2, ny=1, contact=law), 3.5, 0.01)
     assert finite(r)
     s = r.summary()
     assert s["first_lock_time_s"] == pytest.approx(PAPER_2BODY.time_to(THETA_LOCK), rel=0.03)
@@ -278,9 +284,9 @@ T_END = {1e-5: 0.02, 1e-4: 0.2, 1e-3: 1.0, 1e-2: 3.0, 5e-2: 3.0}  # <= 2000 step
 @functools.lru_cache(maxsize=None)
 def dt_run(model, dt):
     try:
-        return scenes.paper2016(2, model, nx=2, ny=1).simulate(T_END[dt], dt), None
+        return simulate(scenes.paper2016(2, model, nx=2, ny=1), T_END[dt], dt), None
     except SimulationError as e:
-        return e.result, e
+        return e.result.hinge(0), e
 
 
 @pytest.mark.parametrize("dt", DTS)
@@ -344,7 +350,7 @@ def test_rigid_trajectory_error_is_second_order_up_to_dt_0_05():
     # +-10 %), and below 1e-4 rad at the paper's 0.01 s.
     errs = []
     for dt in (0.05, 0.02, 0.01):
-        r = rigid_scene(lock=False).simulate(2.4, dt)
+        r = simulate(rigid_scene(lock=False), 2.4, dt)
         theta = np.radians(r.deployment_angle - 90.0)
         errs.append(np.abs(theta - rigid_angle_exact(r.t)).max())
     assert 5.6 < errs[0] / errs[1] < 6.9 and 3.6 < errs[1] / errs[2] < 4.4, errs
@@ -489,9 +495,12 @@ def test_nonlinear_spin_up_far_above_the_first_frequency_stays_bounded(omega_s):
     # k = Omega sqrt(rho A / EA), within 0.5 % (measured -0.1 %), and the transverse tip within
     # 2 % of the peak.
     scene = scenes.spin_up_beam(omega_s, model="nonlinear")
-    r = scene.model.simulate(20.0, 0.01, GeneralizedAlpha(0.9))
+    shell = scene.model.shells[0]
+    tip_nodes = np.flatnonzero(np.isclose(shell.nodes[:, 0], BEAM["L"]))  # the free end's two nodes
+    assert len(tip_nodes) == 2
+    r = scene.model.simulate(20.0, 0.01, scheme=GeneralizedAlpha(0.9), nodes={0: tip_nodes})
     assert finite(r)
-    nodes = r.node_displacements[:, scene.tip_nodes]
+    nodes = r.node_displacements_0
     tip, axial = -nodes[:, :, 2].mean(axis=1), nodes[:, :, 0].mean(axis=1)
     L, EI, rhoA, EA = BEAM["L"], BEAM["EI"], BEAM["rhoA"], BEAM["EA"]
     t = np.linspace(0.0, 15.0, 15001)
@@ -518,8 +527,9 @@ def test_linear_spin_up_far_above_the_first_frequency_reports_divergence(omega_s
     with pytest.raises(SimulationError, match="diverged") as info:
         scenes.spin_up_beam(omega_s, model="linear").simulate(20.0, 0.01)
     partial = info.value.result
-    assert np.all(np.isfinite(partial.tip_deflection)) and np.all(np.isfinite(partial.hub_rate))
-    assert 0.85 * OMEGA_1 < partial.hub_rate[-1] < 1.15 * OMEGA_1
+    hub_rate = np.radians(partial.deployment_rate[:, 0])  # the driven hinge's rate, rad/s
+    assert np.all(np.isfinite(partial.tip_deflection)) and np.all(np.isfinite(hub_rate))
+    assert 0.85 * OMEGA_1 < hub_rate[-1] < 1.15 * OMEGA_1
     assert partial.t[-1] < 15.0
 
 
@@ -540,7 +550,7 @@ def test_mass_ratio_range_against_the_two_body_closed_form(ratio):
               yoke_inertia=(0.0, 0.0, 0.0))
     tb = TwoBody(**kw)
     t_ref = tb.time_to(THETA_LOCK)
-    r = rigid_scene(**kw).simulate(1.01 * t_ref, t_ref / 400)
+    r = simulate(rigid_scene(**kw), 1.01 * t_ref, t_ref / 400)
     assert finite(r)
     H = np.linalg.norm(r.total_angular_momentum, axis=1).max()
     P = np.linalg.norm(r.total_linear_momentum, axis=1).max()
@@ -562,13 +572,13 @@ def test_heavy_base_tends_to_the_fixed_base_closed_form():
     # measured -6e-6); a fixed-base run within 1e-5. At 1e4 the difference is 7.5e-4, 100x larger.
     tb = TwoBody()
     t_fixed = np.pi / 2 * np.sqrt(tb.J_hinge / tb.k)
-    fixed = rigid_scene(base_free=False).simulate(2.52, t_fixed / 400)
+    fixed = simulate(rigid_scene(base_free=False), 2.52, t_fixed / 400)
     assert fixed.summary()["first_lock_time_s"] == pytest.approx(t_fixed, rel=1e-5)
     times = {}
     for ratio in (1e4, 1e6):
         m_B = ratio * tb.m_A
         kw = dict(body_mass=m_B, body_inertia=m_B / 6, yoke_mass=0.0, yoke_inertia=(0.0, 0.0, 0.0))
-        times[ratio] = rigid_scene(**kw).simulate(2.52, t_fixed / 400).summary()["first_lock_time_s"]
+        times[ratio] = simulate(rigid_scene(**kw), 2.52, t_fixed / 400).summary()["first_lock_time_s"]
     assert times[1e6] == pytest.approx(t_fixed, rel=2e-5)
     assert abs(times[1e4] / t_fixed - 1) > 30 * abs(times[1e6] / t_fixed - 1)
 
@@ -585,17 +595,19 @@ def test_1000_s_undamped_conserves_energy_and_momentum():
     # - Momentum at round-off: 1e-12 of the base's peak (measured 6e-14 and 4e-14).
     # - Phase: the mean period within 1e-5 of the closed-form quadrature 9.8042 s (the trapezoidal
     #   rule lengthens it by (w h)^2/12 = 3.4e-6, Hughes 1987 Sec. 9.3).
-    r = rigid_scene(lock=False).model.simulate(1000.0, 0.01, GeneralizedAlpha(1.0))
+    model = rigid_scene(lock=False).model
+    r = model.simulate(1000.0, 0.01, scheme=GeneralizedAlpha(1.0))
     assert finite(r)
     E = r.kinetic_energy + r.potential_energy
     assert np.abs(E - E[0]).max() < 1e-6 * r.kinetic_energy.max()
-    Hb = np.linalg.norm(r.base_angular_momentum, axis=1).max()
-    Pb = np.linalg.norm(r.base_linear_momentum, axis=1).max()
-    assert np.linalg.norm(r.angular_momentum, axis=1).max() < 1e-12 * Hb
-    assert np.linalg.norm(r.linear_momentum, axis=1).max() < 1e-12 * Pb
-    x = r.theta - PAPER_2BODY.theta0
+    Hb = np.linalg.norm(r.body_angular_momentum, axis=1).max()
+    Pb = np.linalg.norm(r.body_linear_momentum, axis=1).max()
+    assert np.linalg.norm(r.total_angular_momentum, axis=1).max() < 1e-12 * Hb
+    assert np.linalg.norm(r.total_linear_momentum, axis=1).max() < 1e-12 * Pb
+    theta = r.q[:, model.layout(0)["iq_theta"]]  # rad, the hinge travel
+    x = theta - PAPER_2BODY.theta0
     s = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
     tc = r.t[s] - x[s] * (r.t[s + 1] - r.t[s]) / (x[s + 1] - x[s])
     assert len(tc) > 100
     assert (tc[-1] - tc[0]) / (len(tc) - 1) == pytest.approx(PAPER_2BODY.period(), rel=1e-5)
-    assert r.theta.max() == pytest.approx(2 * PAPER_2BODY.theta0, abs=1e-5)  # turning point: 270 deg
+    assert theta.max() == pytest.approx(2 * PAPER_2BODY.theta0, abs=1e-5)  # turning point: 270 deg

@@ -1,7 +1,11 @@
-"""Flexible panels in a chain of hinges (system::HingeChain with reduced panels; issue 5).
+"""Flexible panels in a chain of hinges (the engine's tree of hinged bodies with deforming panels;
+issue 5).
 
 Each test names its independent reference:
-- one hinge: the single-hinge engine (system::HingedSystem, its own code for the same equations);
+- one hinge: the same spacecraft described in a base frame turned by 90 deg about the hinge axis
+  (the equations and the Lie-group scheme are equivariant under a change of the base's axes, so
+  every run and residual agrees to round-off), and the power balance of the Rayleigh damping
+  along the exact flow (dE/dt = -d'^T (alpha_M M + beta_K K_T) d', from the mesh's own matrices);
 - a free-floating yoke and two flexible panels, the second hinge riding on the first panel:
   conservation of momentum (round-off) and energy (the trapezoidal rule's truncation error);
 - the stiff limit: the rigid chain (the panels' mass distribution as rigid bodies);
@@ -15,8 +19,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import deployfx as dfx
-from deployfx import _core
-from deployfx.chain import ChainModel, compile_chain
+from deployfx import _core, scenes
+from deployfx import paper2016 as paper
 from deployfx.integrators import GeneralizedAlpha
 
 from test_hinge_chain import Ry, check_jacobians, random_state, rod
@@ -45,78 +49,146 @@ def array_scene(fidelity="reduced-linear", modes=3, E=70e9, damping=(0.0, 0.0)):
             .add_rigid_part(2.0, np.diag([0.01, 0.1, 0.1]), (0.4, 0, 0), body=0)
             .add_hinge(0, point=(0.8, 0, 0), axis=(0, 1, 0), R_PE0=Ry(np.pi), tau0=1.5, k_theta=0.2,
                        fitting_inertia=0.01)
-            .set_appendage(shell, root, fidelity, modes=modes, damping=damping)
+            .set_appendage(shell, root, fidelity=fidelity, modes=modes, damping=damping)
             .add_hinge(1, point=(1.04, 0, 0.01), axis=(0, 0.6, 0.8), R_PE0=Ry(-np.pi), tau0=1.0, k_theta=0.2,
                        fitting_inertia=0.01)
-            .set_appendage(shell, root, fidelity, modes=modes, damping=damping))
+            .set_appendage(shell, root, fidelity=fidelity, modes=modes, damping=damping))
+
+
+def thetas(model, result):
+    """The undriven hinges' angles (rad, (n, H)) from a run's q (Model.layout)."""
+    return result.q[:, [model.layout(k)["iq_theta"] for k in range(model.num_hinges)]]
 
 
 # ------------------------------------------------------------------------------------------------
-# (a) One hinge: the single-hinge engine
+# (a) One hinge: the same spacecraft in turned base axes; the damping's power
 
-def engine_chain_of_one(scene):
-    """The engine's chain of one hinge for a one-hinge Scene, any fidelity (compile_chain's
-    assembly without its refusal of the full models, which the engine runs too)."""
-    body, free = scene._base
-    for p in scene._parts:
-        body = body + p
-    h, a = scene._hinge, scene._appendage
-    spec = _core.ChainHingeSpec(h["point"], h["axis"], h["R_BE0"], h["tau0"], h["k_theta"], h["c_theta"],
-                                h["fitting"].mass, h["fitting"].com, h["fitting"].inertia, shell=a["shell"]._impl,
-                                fixed_dofs=list(a["fixed"]), fidelity=a["fidelity"], alpha_M=a["alpha_M"],
-                                beta_K=a["beta_K"], modes=a["modes"])
-    return _core.HingeChain(free, body.mass, body.inertia, base_com=body.com, hinges=[spec])
+R0 = Ry(np.pi / 2)  # B' = B turned by 90 deg about the hinge axis y: a signed permutation of x, z
+
+
+def paper_scene_in_turned_axes(p, R=R0):
+    """The paper's scene (scenes.Paper2016Scene, parameters ``p``) with every base-fixed vector
+    and tensor given in the axes of B' (B's axes turned by R: x_B' = R^T x_B): the same
+    spacecraft, whose base starts at the attitude R_WB' = I instead of R_WB = I."""
+    plate = paper.appendage_plate(p.layup, p.nx, p.ny)
+    nodes = plate.model.nodes.copy()
+    nodes[:, 0] += p.root_offset
+    nodes[:, 1] -= paper.WIDTH / 2
+    shell = dfx.ShellModel(nodes, plate.model.quads, plate.laminate)
+    scene = (dfx.Scene().set_base(p.body_mass, R.T @ (p.body_inertia * np.eye(3)) @ R)
+             .add_rigid_part(p.yoke_mass, R.T @ np.diag(p.yoke_inertia) @ R, R.T @ np.array([p.yoke_com_x, 0, 0]))
+             .set_hinge(R.T @ np.array([p.hinge_x, 0, 0]), R.T @ Y, R_BE0=R.T @ Ry(-np.pi / 2), tau0=p.tau0,
+                        k_theta=p.k_theta, c_theta=p.c_theta, fitting_inertia=p.fitting_inertia, stowed_angle_deg=90.0)
+             .set_appendage(shell, plate.fixed_dofs("CFFF"), fidelity=p.model, damping=p.damping, modes=p.modes))
+    if p.lock:
+        scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, friction=p.friction)
+    return scene.compile()
+
+
+def turned_state(q, v, a, R=R0):
+    """(q, v, a) of the paper's scene in B' axes: r_W and v_W, w_B and the attitude R_W'B' =
+    R^T R_WB R expressed in W' = R^T W (the world turned with the base); the rest unchanged."""
+    T = np.eye(len(v))
+    T[:3, :3] = T[3:6, 3:6] = R.T
+    qb = q.copy()
+    qb[:3] = R.T @ q[:3]
+    x = Rotation.from_matrix(R.T @ Rotation.from_quat(q[[4, 5, 6, 3]]).as_matrix() @ R).as_quat()
+    qb[3:7] = x[[3, 0, 1, 2]]
+    return qb, T @ v, T @ a, T
 
 
 @pytest.mark.parametrize("fidelity", ["reduced-linear", "reduced-nonlinear", "linear", "nonlinear"])
-def test_one_hinge_chain_residual_matches_hinged_system(fidelity):
-    """Reference: HingedSystem with the same panel (same basis, same Rayleigh damping): a chain of
-    one hinge has its coordinates, so the residuals, momenta and energies agree to round-off
-    (1e-12 relative; measured 1e-18 (residual), 4e-16 (momentum), 2e-16 (energies)) and the Newton
-    matrices to the chain's differences (1e-8; measured 1e-12). The full models too: the engine
-    runs them (Scene refuses them in a chain for their cost, test_hinge_chain.py)."""
-    p = dfx.scenes.Paper2016Parameters(model=fidelity, nx=4, ny=2, modes=4, damping=(0.3, 1e-3), lock=False)
-    sc = dfx.scenes.Paper2016Scene(p)
-    hs = sc.model.system
-    ch = engine_chain_of_one(sc.scene)
+def test_one_hinge_residual_is_equivariant_under_turned_base_axes(fidelity):
+    """Reference: the same spacecraft in B' axes (paper_scene_in_turned_axes) at the same state
+    (turned_state): the base's rows and momenta turn with the axes (r' = T r, Pi' = R^T Pi,
+    S' = T S T^T), everything else is equal (same panel, same basis, same Rayleigh damping):
+    residual, momenta and energies to round-off (1e-12 relative; measured 2e-18, 2e-16, 2e-16) and
+    the Newton matrices to 1e-8 (measured 1e-18)."""
+    p = scenes.Paper2016Parameters(model=fidelity, nx=4, ny=2, modes=4, damping=(0.3, 1e-3), lock=False)
+    hs = scenes.Paper2016Scene(p).model.core
+    ch = paper_scene_in_turned_axes(p).core
     assert (ch.num_positions, ch.num_velocities) == (hs.num_positions, hs.num_velocities)
     for seed in range(2):
         q, v, a = random_state(hs.num_positions, hs.num_velocities, seed)
         q[8:] *= 0.01  # elastic coordinates of a few cm
+        qb, vb, ab, T = turned_state(q, v, a)
         r = hs.residual(q, v, a, 0.0)
-        assert np.abs(ch.residual(q, v, a, 0.0) - r).max() <= 1e-12 * np.abs(r).max()
+        assert np.abs(ch.residual(qb, vb, ab, 0.0) - T @ r).max() <= 1e-12 * np.abs(r).max()
         P = hs.momentum(q, v)
-        assert np.abs(ch.momentum(q, v) - P).max() <= 1e-12 * np.abs(P).max()
-        o, oc = hs.outputs(q, v, 0.0), ch.outputs(q, v, 0.0)
+        assert np.abs(ch.momentum(qb, vb) - np.r_[R0.T @ P[:3], R0.T @ P[3:]]).max() <= 1e-12 * np.abs(P).max()
+        o, oc = hs.outputs(q, v, a, 0.0), ch.outputs(qb, vb, ab, 0.0)
         for key in ("kinetic_energy", "potential_energy"):
             assert oc[key] == pytest.approx(o[key], rel=1e-12)
-        S = hs.iteration_matrix(q, v, a, 0.0, 1.0, 0.05, 0.01)
-        assert np.abs(ch.iteration_matrix(q, v, a, 0.0, 1.0, 0.05, 0.01) - S).max() <= 1e-8 * np.abs(S).max()
+        S = hs.newton_matrix(q, v, a, 0.0, 1.0, 0.05, 0.01)
+        assert np.abs(ch.newton_matrix(qb, vb, ab, 0.0, 1.0, 0.05, 0.01) - T @ S @ T.T).max() <= 1e-8 * np.abs(S).max()
+
+
+@pytest.mark.parametrize("fidelity", ["reduced-linear", "reduced-nonlinear", "linear", "nonlinear"])
+def test_one_hinge_damping_dissipates_the_rayleigh_power_along_the_flow(fidelity):
+    """Reference: along the exact flow (accelerations from r(q, v, a) = 0) the total energy falls
+    at the rate the Rayleigh damping dissipates, dE/dt = -d'^T (alpha_M M + beta_K K_T(d)) d'
+    (Clough & Penzien 1993, Sec. 12-4; K_T = K for linear strain), with d, d' the mesh dofs of the
+    elastic coordinates (Model's displacement map) and M, K_T the mesh's own matrices; the other
+    forces (springs, strain) are conservative. Central differences with step 1e-6 s: within 1e-5
+    of the power exchanged between kinetic and potential energy (their truncation error;
+    measured 4e-7), as test_hinged_system's undamped flow."""
+    alpha_M, beta_K = 0.3, 1e-3
+    p = scenes.Paper2016Parameters(model=fidelity, nx=4, ny=2, modes=4, damping=(alpha_M, beta_K), lock=False)
+    model = scenes.Paper2016Scene(p).model
+    sys, shell = model.core, model.shells[0]
+    lay, D = sys.layout(0), sys.displacement_map(0)
+    n, ne = sys.num_velocities, lay["num_elastic"]
+    rng = np.random.default_rng(1)
+    q = sys.initial_positions()
+    q[3:7] = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])
+    q[lay["iq_theta"]] = 0.3
+    scale = 1e-3 / np.abs(D).max(axis=0)  # ~1 mm of displacement per coordinate
+    q[lay["iq_elastic"]:] = scale * rng.normal(size=ne)
+    v = 0.1 * rng.normal(size=n)
+    v[lay["iv_elastic"]:] = 3 * scale * rng.normal(size=ne)
+    a = np.zeros(n)
+    for _ in range(3):
+        a -= np.linalg.solve(sys.newton_matrix(q, v, a, 0.0, 1, 0, 0), sys.residual(q, v, a, 0.0))
+    eps = 1e-6
+    plus = sys.outputs(sys.retract(q, eps * v), v + eps * a, a, 0.0)
+    minus = sys.outputs(sys.retract(q, -eps * v), v - eps * a, a, 0.0)
+    E = lambda o: o["kinetic_energy"] + o["potential_energy"]
+    d, dd = D @ q[lay["iq_elastic"]:], D @ v[lay["iv_elastic"]:]
+    K_T = shell.internal_force(d)[1] if "nonlinear" in fidelity else shell.stiffness_matrix()
+    dissipated = alpha_M * dd @ (shell.mass_matrix() @ dd) + beta_K * dd @ (K_T @ dd)
+    power = abs(plus["kinetic_energy"] - minus["kinetic_energy"]) / (2 * eps)
+    assert dissipated > 1e-4 * power  # the damping is not negligible here
+    assert abs((E(plus) - E(minus)) / (2 * eps) + dissipated) < 1e-5 * power
 
 
 @pytest.mark.parametrize("fidelity, tol", [("reduced-linear", 1e-9), ("reduced-nonlinear", 1e-9)])
-def test_one_hinge_chain_run_matches_hinged_system(fidelity, tol):
-    """Reference: HingedSystem's run of the paper's scene (4 x 2 mesh, 6 modes, alpha_M = 0.7 1/s,
-    the paper's lock) to past the first lock (3 s, dt = 10 ms): the two engines take the same
-    steps and switches, so lock time (s), deployment angle (deg) and node deflections (m) agree to
-    `tol`, the trace of Newton's tolerance (1e-10 of the accelerations per step): the two Newton
-    matrices differ at truncation level (differenced vs analytic), so the iterates, and which
-    step reuses a matrix, differ within that tolerance (measured: reduced-linear 6e-11 deg;
-    reduced-nonlinear, nodes and output times below that)."""
-    sc = dfx.scenes.Paper2016Scene(dfx.scenes.Paper2016Parameters(model=fidelity, nx=4, ny=2, modes=6))
-    chain = compile_chain(sc.scene._base, sc.scene._parts, sc.scene._links, None)
-    assert isinstance(chain, ChainModel) and chain.flexible == (True,)
-    ref, run = sc.model.simulate(3.0, 0.01), chain.simulate(3.0, 0.01)
+def test_one_hinge_run_is_equivariant_under_turned_base_axes(fidelity, tol):
+    """Reference: the run of the same spacecraft in B' axes (above) of the paper's scene (4 x 2
+    mesh, 6 modes, alpha_M = 0.7 1/s, the paper's lock) to past the first lock (3 s, dt = 10 ms):
+    the scheme is equivariant too (exp(R^T w~ R) = R^T exp(w~) R, and B' only permutes the base's
+    components with signs, so Newton's norms and steps are the same), so lock time (s),
+    deployment angle (deg) and node deflections (m) agree to `tol` (measured 6e-13 deg, 1e-12 m),
+    and the base's attitude is the turned one, R_W'B' = R^T R_WB R."""
+    p = scenes.Paper2016Parameters(model=fidelity, nx=4, ny=2, modes=6)
+    sc = scenes.Paper2016Scene(p)
+    turned = paper_scene_in_turned_axes(p)
+    ref, run = sc.model.simulate(3.0, 0.01), turned.simulate(3.0, 0.01)
     np.testing.assert_allclose(run.t, ref.t, rtol=0, atol=tol)
-    lock_ref, lock = ref.summary()["first_lock_time_s"], run.summary()["first_lock_time_s"][0]
+    lock_ref, lock = ref.summary(hinge=0)["first_lock_time_s"], run.summary(hinge=0)["first_lock_time_s"]
     assert 2.3 < lock_ref < 2.6 and abs(lock - lock_ref) <= tol
-    assert np.abs(run.deployment_angle[:, 0] - np.degrees(ref.theta)).max() <= tol
-    u_ref = ref.node_displacements
+    assert np.abs(run.deployment_angle - ref.deployment_angle).max() <= tol
+    u_ref, u = sc.model.node_displacements(ref.q, 0), turned.node_displacements(run.q, 0)
     assert np.abs(u_ref).max() > 0.1  # the panel really did bend (m)
-    assert np.abs(run.node_displacements_0 - u_ref).max() <= tol
-    tip = chain.tip_nodes[0]
-    np.testing.assert_allclose(run.tip_displacement[:, 0], u_ref[:, tip], rtol=0, atol=tol)
-    np.testing.assert_allclose(run.tip_deflection[:, 0], u_ref[:, tip, 2], rtol=0, atol=tol)  # normal: E's z
+    assert np.abs(u - u_ref).max() <= tol
+    R_ref = Rotation.from_quat(ref.q[:, [4, 5, 6, 3]]).as_matrix()
+    R_run = Rotation.from_quat(run.q[:, [4, 5, 6, 3]]).as_matrix()
+    assert np.abs(R_run - R0.T @ R_ref @ R0).max() <= tol
+    assert np.abs(R_ref - np.eye(3)).max() > 1e-4  # the base really turned
+    # The tip series are the tip node's displacement (E axes), and its deflection along the
+    # direction the hinge turns it: at the tip (x along E's x, hinge axis E's y) that is -E's z.
+    tip = sc.model.tip_nodes[0]
+    np.testing.assert_allclose(ref.tip_displacement[:, 0], u_ref[:, tip], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(ref.tip_deflection[:, 0], -u_ref[:, tip, 2], rtol=0, atol=1e-15)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -132,12 +204,12 @@ def test_free_chain_conserves_momentum_and_energy():
     stiff static-correction vectors up to 3.5e4 rad/s keep the ratio from a clean 4): within 2e-4
     at 2 ms, and at least halved at 1 ms."""
     model = array_scene().compile()
-    assert model.flexible == (False, True, True) and model.attachment_nodes[2] >= 0
-    v0 = np.zeros(model.system.num_velocities)
+    assert model.deforming == (False, True, True) and model.layout(2)["attachment_node"] >= 0
+    v0 = np.zeros(model.num_velocities)
     v0[:6] = [0.01, -0.02, 0.005, 0.02, -0.05, 0.03]  # m/s, rad/s: the base moves and tumbles
     error = {}
     for dt in (2e-3, 1e-3):
-        r = model.simulate(1.0, dt, GeneralizedAlpha(1.0), v0=v0)
+        r = model.simulate(1.0, dt, scheme=GeneralizedAlpha(1.0), v0=v0)
         Pi = np.hstack([r.total_linear_momentum, r.total_angular_momentum])
         scale = np.abs(Pi).max()
         assert np.abs(Pi - Pi[0]).max() <= 1e-12 * scale
@@ -160,12 +232,14 @@ def test_stiff_panels_converge_to_the_rigid_chain():
     1, would add an O(dt^2) error of its own to the stiff panels' constrained limit). Asserted:
     each hundredfold stiffening cuts it at least fiftyfold, and 1e-5 rad at 1e4."""
     dt = 2.5e-3
-    rigid = array_scene("rigid").compile().simulate(1.5, dt, GeneralizedAlpha(1.0))
-    assert np.ptp(rigid.theta, axis=0).min() > 0.9  # every hinge swings
+    rigid_model = array_scene("rigid").compile()
+    rigid = thetas(rigid_model, rigid_model.simulate(1.5, dt, scheme=GeneralizedAlpha(1.0)))
+    assert np.ptp(rigid, axis=0).min() > 0.9  # every hinge swings
     gap = []
     for scale in (1.0, 1e2, 1e4):
-        r = array_scene(E=70e9 * scale).compile().simulate(1.5, dt, GeneralizedAlpha(1.0))
-        gap.append(np.abs(r.theta - rigid.theta).max())
+        model = array_scene(E=70e9 * scale).compile()
+        r = model.simulate(1.5, dt, scheme=GeneralizedAlpha(1.0))
+        gap.append(np.abs(thetas(model, r) - rigid).max())
     assert gap[0] > 1e-2  # flexibility matters at the real stiffness
     assert gap[1] < gap[0] / 50 and gap[2] < gap[1] / 50 and gap[2] < 1e-5
 
@@ -186,7 +260,7 @@ def spinning_panel_with_a_child():
     m, com, J = rod(CHILD_MASS, CHILD_LENGTH)
     scene = (dfx.Scene().set_base(1.0, 1.0, free=False)
              .add_hinge("base", point=(0, 0, 0), axis=(0, 1, 0), fitting_inertia=100.0)
-             .set_appendage(shell, root, "reduced-linear", modes=4, damping=(40.0, 0.0))
+             .set_appendage(shell, root, fidelity="reduced-linear", modes=4, damping=(40.0, 0.0))
              .add_hinge(0, point=CHILD_POINT, axis=(0, 1, 0), R_PE0=Ry(-np.pi / 2), k_theta=400.0, c_theta=5.0)
              .add_rigid_part(m, J, com, body=1))
     return scene.compile(), shell, root, (m, com, J)
@@ -243,27 +317,30 @@ def test_child_hinge_rides_on_the_loaded_parent_panel():
     the node's deflection and rotation within 1e-3 (measured 6e-5 and 5e-5 after 5 s, alpha_M =
     40 1/s)."""
     model, shell, root, child = spinning_panel_with_a_child()
-    node = model.attachment_nodes[1]
+    node = model.layout(1)["attachment_node"]
     assert node >= 0 and np.allclose(shell.nodes[node], [1.02, 0.0, 0.0])  # the nearest node
-    v0 = np.zeros(model.system.num_velocities)
+    assert [model.layout(k)["iq_theta"] for k in (0, 1)] == [0, 1]  # fixed base: q = [theta_0, theta_1, eta]
+    v0 = np.zeros(model.num_velocities)
     v0[0] = OMEGA
-    r = model.simulate(5.0, 0.01, GeneralizedAlpha(0.8), v0=v0)
+    r = model.simulate(5.0, 0.01, scheme=GeneralizedAlpha(0.8), v0=v0)
     q = r.q[-1]
-    start, n = model.system.elastic_position(0), model.system.num_elastic(0)
-    d = (q[start:start + n] @ model.system.displacement_map(0).T).reshape(-1, 6)[node]
+    lay = model.layout(0)
+    start, n = lay["iq_elastic"], lay["num_elastic"]
+    d = (q[start:start + n] @ model.core.displacement_map(0).T).reshape(-1, 6)[node]
     u, psi = d[:3], d[3:]
-    np.testing.assert_array_equal(u, model.node_displacements(q, 0)[0, node])
-    R, o = model.system.frames(q)
-    R_W0, o_0, R_W1 = R[:, 0:3], o[:, 0], R[:, 3:6]
+    np.testing.assert_allclose(u, model.node_displacements(q, 0)[0, node], rtol=1e-14, atol=0)
+    R, o = model.frames(q)
+    R_W0, o_0, R_W1, o_1 = R[0, 0], o[0, 0], R[0, 1], o[0, 1]
     R_att = Rotation.from_rotvec(psi).as_matrix()
     X = shell.nodes[node]
-    np.testing.assert_allclose(o[:, 1], o_0 + R_W0 @ (X + u + R_att @ (CHILD_POINT - X)), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(o_1, o_0 + R_W0 @ (X + u + R_att @ (CHILD_POINT - X)), rtol=0, atol=1e-12)
     expected = R_W0 @ R_att @ Rotation.from_rotvec(q[1] * Y).as_matrix() @ Ry(-np.pi / 2)
     np.testing.assert_allclose(R_W1, expected, rtol=0, atol=1e-12)
 
-    assert abs(r.theta_rate[-1, 0] - OMEGA) < 1e-3 and abs(r.theta_rate[-1, 1]) < 1e-5  # settled spin
+    rate = np.radians(r.deployment_rate[-1])  # rad/s
+    assert abs(rate[0] - OMEGA) < 1e-3 and abs(rate[1]) < 1e-5  # settled spin
     assert abs(u[2]) > 1e-3 and abs(psi[1]) > 5e-3  # the child's load bends the panel (m, rad)
-    ref = static_reference(shell, root, child, node, r.theta_rate[-1, 0] * Y, q[1])[node]
+    ref = static_reference(shell, root, child, node, rate[0] * Y, q[1])[node]
     assert abs(u[2] - ref[2]) <= 1e-3 * abs(ref[2])
     assert abs(psi[1] - ref[4]) <= 1e-3 * abs(ref[4])
 
@@ -292,10 +369,10 @@ def test_locks_with_friction_on_a_flexible_chain(free):
              .add_rigid_part(1.5, np.diag([0.002, 0.045, 0.045]), (0.3, 0, 0), body=0)
              .set_lock(np.pi / 2, **lock)
              .add_hinge(0, point=(0.6, 0, 0), axis=(0, 1, 0), R_PE0=Ry(np.pi), tau0=1.5, k_theta=0.1, **spring)
-             .set_appendage(panel, root, "reduced-linear", modes=4)
+             .set_appendage(panel, root, fidelity="reduced-linear", modes=4)
              .set_lock(np.pi, **lock)
              .add_hinge(1, point=(0.64, 0, 0), axis=(0, -1, 0), R_PE0=Ry(np.pi), tau0=0.5, k_theta=0.1, **spring)
-             .set_appendage(panel, root, "reduced-linear", modes=4)
+             .set_appendage(panel, root, fidelity="reduced-linear", modes=4)
              .set_lock(np.pi, **lock)
              .compile())
     r = array.simulate(1.9, 0.01)
@@ -315,9 +392,9 @@ def test_jacobians_match_finite_differences(fidelity):
     (Pi is linear in v; 1e-12); dr/dv, dr/dq (along retract) and dPi/dq to the differences' 1e-6,
     at a state with the panels deformed and the second hinge riding on the first panel. Damping
     the matrix carries exactly: mass-proportional, and stiffness-proportional for linear strain
-    (with Green strain the matrix drops beta_K dK_T/dq d', as HingedSystem's does)."""
+    (with Green strain the matrix drops beta_K dK_T/dq d', as the one-hinge model's does)."""
     beta_K = 1e-3 if fidelity == "reduced-linear" else 0.0
-    ch = array_scene(fidelity, damping=(0.3, beta_K)).compile().system
+    ch = array_scene(fidelity, damping=(0.3, beta_K)).compile().core
     nq, n = ch.num_positions, ch.num_velocities
     q, v, a = random_state(nq, n, 3)
     q[10:] *= 0.02
@@ -334,11 +411,14 @@ def test_results_animation_export_and_scene_file(tmp_path):
         scene.set_lock(angle, 0.03, 1e-4, dfx.contact.ContactLaw("kelvin-voigt-hertz", K=1e9, n=1.5, D=1e4), hinge=k)
     model = scene.compile()
     assert model.fidelities == (None, "reduced-nonlinear", "reduced-nonlinear")
-    assert model.basis_info(0) is None
+    with pytest.raises(ValueError, match="hinge = 0 carries no panel"):
+        model.basis_info(0)  # the yoke
     assert model.basis_info(1)["static_corrections"] == 12 and model.basis_info(2)["static_corrections"] == 6
-    r = model.simulate(0.3, 0.01)
+    r = model.simulate(0.3, 0.01, nodes="all")
     n, nodes = len(r.t), model.shells[1].nodes.shape[0]
-    assert r.metadata["model"] == "flexible chain"
+    assert [h["fidelity"] for h in r.metadata["hinges"]] == [None, "reduced-nonlinear", "reduced-nonlinear"]
+    assert [h.get("basis_size") for h in r.metadata["hinges"]] == [None, model.basis_info(1)["size"],
+                                                                     model.basis_info(2)["size"]]
     assert r.tip_deflection.shape == r.strain_energy.shape == (n, 3) and r.tip_displacement.shape == (n, 3, 3)
     assert r.node_displacements_1.shape == r.node_displacements_2.shape == (n, nodes, 3)
     assert "node_displacements_0" not in r
@@ -346,7 +426,8 @@ def test_results_animation_export_and_scene_file(tmp_path):
     assert r.units["strain_energy"] == "J"
     assert np.all(r.tip_deflection[:, 0] == 0) and np.abs(r.tip_deflection[:, 1:]).max() > 1e-4
     np.testing.assert_allclose(r.potential_energy, r.strain_energy.sum(axis=1) + sum(
-        -t0 * th + 0.5 * k * th**2 for t0, k, th in zip((2.0, 1.5, 1.0), (0.3, 0.2, 0.2), r.theta.T)), rtol=1e-12)
+        -t0 * th + 0.5 * k * th**2 for t0, k, th in zip((2.0, 1.5, 1.0), (0.3, 0.2, 0.2), thetas(model, r).T)),
+        rtol=1e-12)
 
     from deployfx import animation, export
     R_WE, o_W = animation.body_frames(model, r)
@@ -356,10 +437,7 @@ def test_results_animation_export_and_scene_file(tmp_path):
         np.testing.assert_allclose(animation.world_points(model, r, hinge=k), expected, rtol=0, atol=1e-14)
         rigid = animation.world_points(model, r, hinge=k, scale=0.0)
         assert np.abs(rigid - expected).max() > 1e-4  # the drawing is the deformed panel
-    R, o = model.system.frames(r.q[-1])  # the engine's frames, hinges riding on deformed panels
-    np.testing.assert_allclose(o_W[-1].T, o, rtol=0, atol=1e-14)
-    np.testing.assert_allclose(np.hstack(list(R_WE[-1])), R, rtol=0, atol=1e-14)
-    paths = export.write_vtk_series(r, None, tmp_path / "vtk", every=10, model=model)
+    paths = export.write_vtk_series(model, r, tmp_path / "vtk", every=10)
     import meshio
     mesh = meshio.read(paths[-1])
     k = (len(r.t) - 1) // 10 * 10
@@ -378,34 +456,37 @@ def test_results_animation_export_and_scene_file(tmp_path):
 
 def test_bad_flexible_chain_input_raises_value_error_naming_it():
     shell, root = aluminium_panel()
-    base = dict(point=np.zeros(3), axis=Y, R_PC0=np.eye(3), tau0=0.0, k_theta=1.0, c_theta=0.0, mass=0.0,
-                com=np.zeros(3), inertia=0.01 * np.eye(3))
+    hinge = dict(k_theta=1.0, body=_core.RigidInertia(inertia=0.01 * np.eye(3)))
     panel = dict(shell=shell._impl, fixed_dofs=list(root), fidelity="reduced-linear", modes=3)
     for change, message in [
-        (dict(alpha_M=-1.0), r"hinges\[1\]\.appendage\.alpha_M = -1 is out of range: must be finite and >= 0"),
-        (dict(beta_K=np.nan), r"hinges\[1\]\.appendage\.beta_K = nan is out of range"),
-        (dict(modes=0), r"hinges\[1\]\.appendage\.modes = 0 is out of range: must be in \[1, 72\]"),
+        (dict(alpha_M=-1.0), r"hinges\[1\]\.panel\.alpha_M = -1 is out of range: must be finite and >= 0"),
+        (dict(beta_K=np.nan), r"hinges\[1\]\.panel\.beta_K = nan is out of range"),
+        (dict(modes=0), r"hinges\[1\]\.panel\.modes = 0 is out of range: must be in \[1, 72\]"),
         (dict(modes=3, derivative_modes=4, fidelity="reduced-nonlinear"),
-         r"hinges\[1\]\.appendage\.derivative_modes = 4 is out of range"),
-        (dict(fidelity="wobbly"), r"appendage\.fidelity = 'wobbly' is invalid: must be 'rigid', 'linear'"),
+         r"hinges\[1\]\.panel\.derivative_modes = 4 is out of range"),
+        (dict(fidelity="wobbly"), r"panel\.fidelity = 'wobbly' is invalid: must be 'rigid', 'linear'"),
     ]:
         with pytest.raises(ValueError, match=message):
-            spec = _core.ChainHingeSpec(**dict(base, point=np.array([1.04, 0, 0])), **dict(panel, **change))
-            _core.HingeChain(False, 1.0, np.eye(3), hinges=[_core.ChainHingeSpec(**base, **panel), spec])
+            child = _core.HingeSpec(parent=0, point=[1.04, 0, 0], **hinge,
+                                    panel=_core.PanelSpec(**dict(panel, **change)))
+            _core.Model(base_free=False, base=_core.RigidInertia(mass=1.0, inertia=np.eye(3)),
+                        hinges=[_core.HingeSpec(parent=-1, **hinge, panel=_core.PanelSpec(**panel)), child])
 
     with pytest.raises(ValueError, match=r"appendage.modes = 0 is out of range: must be in \[1, 72\]"):
         dfx.Scene().set_base(1.0, 1.0).add_hinge("base", point=(0, 0, 0), axis=(0, 1, 0)).set_appendage(
-            shell, root, "reduced-linear", modes=0)
+            shell, root, fidelity="reduced-linear", modes=0)
     model = array_scene().compile()
     r = model.simulate(0.02, 0.01)
     with pytest.raises(ValueError, match=r"hinge = 0 carries no panel"):
         model.node_displacements(r.q, 0)
     with pytest.raises(ValueError, match=r"hinge = 3 is out of range: must be in \[0, 2\]"):
         model.node_displacements(r.q, 3)
-    with pytest.raises(ValueError, match=rf"q has 5 coordinates per sample, the model {model.system.num_positions}"):
+    with pytest.raises(ValueError, match=rf"q has shape \(1, 5\): this model has {model.num_positions} coordinates"):
         model.node_displacements(np.zeros((1, 5)), 1)
     with pytest.raises(ValueError, match=r"hinge = -1 is out of range"):
-        model.system.num_elastic(-1)
+        model.layout(-1)
+    with pytest.raises(ValueError, match=r"hinge = -1 is out of range"):
+        model.core.layout(-1)
 
 
 def test_a_hinge_on_the_clamped_root_of_a_flexible_panel():
@@ -415,15 +496,15 @@ def test_a_hinge_on_the_clamped_root_of_a_flexible_panel():
     shell, root = aluminium_panel()
     model = (dfx.Scene().set_base(50.0, 5.0)
              .add_hinge("base", point=(0.3, 0, 0), axis=(0, 1, 0), tau0=1.0, fitting_inertia=0.01)
-             .set_appendage(shell, root, "reduced-linear", modes=3)
+             .set_appendage(shell, root, fidelity="reduced-linear", modes=3)
              .add_hinge(0, point=(0.0, 0.3, 0.0), axis=(1, 0, 0), tau0=0.5, fitting_inertia=0.01)
              .add_rigid_part(1.0, 0.01, (0, 0.2, 0), body=1)).compile()
-    node = model.attachment_nodes[1]
+    node = model.layout(1)["attachment_node"]
     assert node >= 0 and shell.nodes[node][0] == pytest.approx(0.02)  # on the root edge
     info = model.basis_info(0)
     assert info["static_corrections"] == 12  # proposed: E's six, the node's six (zero: dropped)
     assert info["size"] == array_scene().compile().basis_info(2)["size"]  # as the same panel without a child
     r = model.simulate(0.5, 0.01)
-    assert np.all(np.isfinite(r.q)) and np.abs(r.theta).max() > 0.01
-    R, o = model.system.frames(r.q[-1])
-    np.testing.assert_allclose(o[:, 1], o[:, 0] + R[:, 0:3] @ np.array([0.0, 0.3, 0.0]), atol=1e-12)
+    assert np.all(np.isfinite(r.q)) and np.abs(thetas(model, r)).max() > 0.01
+    R, o = model.frames(r.q[-1])
+    np.testing.assert_allclose(o[0, 1], o[0, 0] + R[0, 0] @ np.array([0.0, 0.3, 0.0]), atol=1e-12)

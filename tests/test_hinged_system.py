@@ -3,7 +3,7 @@
 Rigid appendage: the exact free-floating relation between base attitude and hinge angle and the
 deployment time from energy and momentum conservation (derived below). Flexible appendage: the
 equations of motion conserve momentum and energy along their exact flow, and the analytic Newton
-iteration matrix matches finite differences.
+matrix matches finite differences.
 """
 import numpy as np
 import pytest
@@ -24,17 +24,25 @@ def Ry(a):
 
 
 def make_system(fidelity, nx=4, ny=2, free=True, c_theta=0.0, fitting=0.0):
-    """The paper's laminate (lay-up 2) on an nx x ny mesh; `fitting`: the hinge fitting's inertia,
-    kg m^2 (isotropic)."""
+    """The paper's laminate (lay-up 2) on an nx x ny mesh, one hinge on the base: the engine's
+    compiled model (``_core.Model``); `fitting`: the hinge fitting's inertia, kg m^2 (isotropic)."""
     plate = dfx.paper2016.appendage_plate(2, nx, ny)
     nodes = plate.model.nodes.copy()
     nodes[:, 0] += B_H          # root edge b_h from the hinge axis
     nodes[:, 1] -= W / 2        # centred on the hinge's point
     model = dfx.ShellModel(nodes, plate.model.quads, plate.laminate)
     # Stowed (theta = 0) the appendage points along +z of B; deployed (theta = pi/2) along +x.
-    return _core.HingedSystem(free, M_BASE, J_BASE * np.eye(3), P_HINGE, np.array([0.0, 1.0, 0.0]),
-                              Ry(-np.pi / 2), TAU0, K_THETA, c_theta, None, model._impl,
-                              list(plate.fixed_dofs("CFFF")), fidelity, fitting_inertia=fitting * np.eye(3))
+    return (dfx.Scene().set_base(M_BASE, J_BASE, free=free)
+            .set_hinge(P_HINGE, (0.0, 1.0, 0.0), R_BE0=Ry(-np.pi / 2), tau0=TAU0, k_theta=K_THETA,
+                       c_theta=c_theta, fitting_inertia=fitting)
+            .set_appendage(model, plate.fixed_dofs("CFFF"), fidelity=fidelity)
+            .compile().core)
+
+
+def simulate(sys, t_end, dt, rho_inf):
+    """The engine's raw run from rest at the stowed configuration; per-hinge series (n, 1)."""
+    return _core.simulate(sys, sys.initial_positions(), np.zeros(sys.num_velocities), t_end=t_end, dt=dt,
+                          scheme=GeneralizedAlpha(rho_inf)._params())
 
 
 def planar_reference():
@@ -82,11 +90,10 @@ def test_rigid_free_floating_attitude_follows_hinge_angle():
     # phi(theta) = int dphi/dtheta: exact for zero angular momentum. Tolerance 1e-6 rad at
     # dt = 2 ms (the momentum drift of the second-order scheme sets the error).
     sys = make_system("rigid")
-    tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 2.0, 0.002,
-                               GeneralizedAlpha(1.0)._params())
+    tr = simulate(sys, 2.0, 0.002, 1.0)
     assert tr["failure"] == ""
     dphi, _ = planar_reference()
-    theta, phi = tr["theta"], base_pitch(tr["q"])
+    theta, phi = tr["theta"][:, 0], base_pitch(tr["q"])
     exact = np.array([scipy.integrate.quad(dphi, 0, th, epsabs=1e-13)[0] for th in theta[::50]])
     np.testing.assert_allclose(phi[::50], exact, atol=1e-6)
     assert abs(phi[-1]) > 1e-3  # the base really turns
@@ -102,9 +109,8 @@ def test_rigid_deployment_time_from_energy():
                                  0, u1, epsabs=1e-12)[0]
     assert 2.3 < t_ref < 2.6  # the scenario's hand estimate: about 2.45 s
     sys = make_system("rigid")
-    tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 3.0, 0.005,
-                               GeneralizedAlpha(1.0)._params())
-    th, t = tr["theta"], tr["t"]
+    tr = simulate(sys, 3.0, 0.005, 1.0)
+    th, t = tr["theta"][:, 0], tr["t"]
     k = np.argmax(th >= np.pi / 2)
     t_cross = t[k - 1] + (np.pi / 2 - th[k - 1]) * (t[k] - t[k - 1]) / (th[k] - th[k - 1])
     assert t_cross == pytest.approx(t_ref, abs=1e-3)
@@ -117,15 +123,13 @@ def test_rigid_momentum_to_round_off_and_energy_to_1e_6_over_100_s():
     # rho_inf = 1: within 1e-6 of the peak kinetic energy over 100 s (the scheme's O(dt^2) error).
     for dt in (0.05, 0.01):
         sys = make_system("rigid")
-        tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 3.0, dt,
-                                   GeneralizedAlpha(1.0)._params())
+        tr = simulate(sys, 3.0, dt, 1.0)
         assert tr["failure"] == ""
         peak = np.abs(tr["base_angular_momentum"]).max()
         assert np.abs(tr["angular_momentum"]).max() < 1e-12 * peak
         assert np.abs(tr["linear_momentum"]).max() < 1e-12 * M_BASE * 1e-3
     sys = make_system("rigid")
-    tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 100.0, 0.004,
-                               GeneralizedAlpha(1.0)._params())
+    tr = simulate(sys, 100.0, 0.004, 1.0)
     E = tr["kinetic_energy"] + tr["potential_energy"]
     assert np.abs(E - E[0]).max() < 1e-6 * tr["kinetic_energy"].max()
 
@@ -137,11 +141,10 @@ def test_flexible_deployment_conserves_momentum_and_is_near_the_rigid_time(fidel
     # energy-quadrature time (the flexible panel lags and stores strain energy; it deploys a little
     # later, 2.48 s against 2.45 s on this mesh).
     sys = make_system(fidelity, fitting=0.02)
-    tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 3.0, 0.01,
-                               GeneralizedAlpha(0.8)._params())
+    tr = simulate(sys, 3.0, 0.01, 0.8)
     assert tr["failure"] == ""
     assert np.abs(tr["angular_momentum"]).max() < 1e-12 * np.abs(tr["base_angular_momentum"]).max()
-    th, t = tr["theta"], tr["t"]
+    th, t = tr["theta"][:, 0], tr["t"]
     k = np.argmax(th >= np.pi / 2)
     assert k > 0
     _, I_eff = planar_reference()
@@ -155,8 +158,7 @@ def test_flexible_energy_is_conserved_without_numerical_damping(fidelity, tol):
     # Undamped, rho_inf = 1 (trapezoidal rule), dt = 2.5 ms, 1 s of deployment: the total energy
     # stays within `tol` of the peak kinetic energy (measured 4e-4 and 6e-5: O(dt^2) error).
     sys = make_system(fidelity, fitting=0.02)
-    tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), 1.0, 0.0025,
-                               GeneralizedAlpha(1.0)._params())
+    tr = simulate(sys, 1.0, 0.0025, 1.0)
     assert tr["failure"] == ""
     E = tr["kinetic_energy"] + tr["potential_energy"]
     assert np.abs(E - E[0]).max() < tol * tr["kinetic_energy"].max()
@@ -190,10 +192,10 @@ def test_flexible_equations_conserve_momentum_and_energy_along_their_flow(fideli
     n = sys.num_velocities
     a = np.zeros(n)
     for _ in range(3):
-        a -= np.linalg.solve(sys.iteration_matrix(q, v, a, 0.0, 1, 0, 0), sys.residual(q, v, a, 0.0))
+        a -= np.linalg.solve(sys.newton_matrix(q, v, a, 0.0, 1, 0, 0), sys.residual(q, v, a, 0.0))
     eps = 1e-6
-    plus, minus, mid = (sys.outputs(sys.retract(q, eps * v), v + eps * a, 0.0),
-                        sys.outputs(sys.retract(q, -eps * v), v - eps * a, 0.0), sys.outputs(q, v, 0.0))
+    plus, minus, mid = (sys.outputs(sys.retract(q, eps * v), v + eps * a, a, 0.0),
+                        sys.outputs(sys.retract(q, -eps * v), v - eps * a, a, 0.0), sys.outputs(q, v, a, 0.0))
     for key in ("linear_momentum", "angular_momentum"):
         rate = (plus[key] - minus[key]) / (2 * eps)
         assert np.abs(rate).max() < 1e-6, (key, rate)
@@ -204,7 +206,7 @@ def test_flexible_equations_conserve_momentum_and_energy_along_their_flow(fideli
 
 
 @pytest.mark.parametrize("fidelity", ["linear", "nonlinear"])
-def test_iteration_matrix_matches_finite_differences(fidelity):
+def test_newton_matrix_matches_finite_differences(fidelity):
     # S = c_a dr/da + c_v dr/dv + c_q dr/dq, analytic in the elastic columns: central differences
     # (step 1e-6 on v, 1e-7 on q), tolerance 1e-5 of the largest entry.
     sys = make_system(fidelity, 2, 1)
@@ -214,7 +216,7 @@ def test_iteration_matrix_matches_finite_differences(fidelity):
     r = lambda qq, vv, aa: sys.residual(qq, vv, aa, 0.0)
     E = np.eye(n)
     for (ca, cv, cq) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)]:
-        S = sys.iteration_matrix(q, v, a, 0.0, ca, cv, cq)
+        S = sys.newton_matrix(q, v, a, 0.0, ca, cv, cq)
         if ca:
             fd = np.column_stack([(r(q, v, a + 1e-6 * e) - r(q, v, a - 1e-6 * e)) / 2e-6 for e in E])
         elif cv:
@@ -231,7 +233,6 @@ def test_wrong_sizes_raise_instead_of_crashing():
     with pytest.raises(ValueError, match="sizes"):
         sys.residual(q[:-1], v, v, 0.0)
     with pytest.raises(ValueError, match="sizes"):
-        sys.outputs(q, v[:3], 0.0)
+        sys.outputs(q, v[:3], v[:3], 0.0)
     with pytest.raises(ValueError, match="fidelity"):
-        _core.HingedSystem(True, 1.0, np.eye(3), P_HINGE, np.array([0.0, 1.0, 0.0]), np.eye(3), 0.0,
-                           0.0, 0.0, None, dfx.paper2016.appendage_plate(1, 2, 1).model._impl, [], "stiff")
+        _core.PanelSpec(shell=dfx.paper2016.appendage_plate(1, 2, 1).model._impl, fixed_dofs=[], fidelity="stiff")

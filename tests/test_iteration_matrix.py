@@ -1,7 +1,7 @@
-"""The analytic Newton iteration matrix and momentum Jacobian of the hinged system (issue 6)
+"""The analytic Newton matrix and momentum Jacobian of the engine (issue 6) on one hinge
 against central differences of the residual and of the momentum, through the bindings.
 
-iteration_matrix(q, v, a, t, c_a, c_v, c_q) = c_a dr/da + c_v dr/dv + c_q dr/dq (dr/dq along
+newton_matrix(q, v, a, t, c_a, c_v, c_q) = c_a dr/da + c_v dr/dv + c_q dr/dq (dr/dq along
 retract()); momentum_jacobian(q, v, c_v, c_q) = c_v dPi/dv + c_q dPi/dq. Every fidelity, free and
 fixed base, with and without the lock in contact, at a generic state: the base spinning about a
 tilted axis with its centre of mass off B's origin, the hinge at 0.3 rad moving, the plate
@@ -11,11 +11,11 @@ The differences are fourth-order central differences. r is affine in a and, but 
 friction (the hinge row), quadratic in v, and Pi is linear in v: unit steps are exact there and
 keep the round-off of the stiff elastic rows small; the hinge row's v-columns take steps of
 1e-4. In q (steps 1e-3) the truncation error is below 1e-12 relative. Measured agreement (in
-the units below): 4e-8 at worst (the lock's rate column, differenced in the engine), 2e-9
-elsewhere. Tolerance: each entry within 1e-7 of the largest magnitude in its row group
+the units below): 4e-8 at worst (the hinge row's v-columns, differenced with steps of
+1e-4). Tolerance: each entry within 1e-7 of the largest magnitude in its row group
 (the base's force rows, its moment rows, the hinge row, the elastic rows: one unit each) and
 column, plus 1e-11 of the matrix's largest entry (round-off of the quotients where an entry is 0).
-The lock's own theta- and rate-derivatives are differenced in the engine (step 1e-7).
+The lock's own theta- and rate-derivatives are analytic (joint/hinge_lock.hpp).
 """
 import numpy as np
 import pytest
@@ -38,38 +38,40 @@ def Ry(a):
 
 def make_system(fidelity, free, lock):
     """The paper's laminate (lay-up 2) on a 4 x 2 mesh; damping that the matrix carries exactly
-    (hinge c_theta, mass-proportional alpha_M); a soft lock at THETA_LOCK the preload keeps closed."""
+    (hinge c_theta, mass-proportional alpha_M); a soft lock at THETA_LOCK the preload keeps closed.
+    Returns the engine's compiled model (``_core.Model``)."""
     plate = dfx.paper2016.appendage_plate(2, 4, 2)
     nodes = plate.model.nodes.copy()
     nodes[:, 0] += B_H
     nodes[:, 1] -= W / 2
     model = dfx.ShellModel(nodes, plate.model.quads, plate.laminate)
-    spec = None
+    scene = (dfx.Scene().set_base(M_BASE, J_BASE * np.diag([1.0, 1.2, 0.9]), com=(0.1, -0.05, 0.02), free=free)
+             .set_hinge(P_HINGE, (0.0, 1.0, 0.0), R_BE0=Ry(-np.pi / 2), tau0=TAU0, k_theta=K_THETA, c_theta=0.5,
+                        fitting_mass=0.5, fitting_com=(0.01, 0.02, -0.01), fitting_inertia=0.02)
+             .set_appendage(model, plate.fixed_dofs("CFFF"), fidelity=fidelity, damping=(0.3, 0.0), modes=4))
     if lock:
         law = dfx.contact.ContactLaw("kelvin-voigt-hertz", K=1e9, n=1.5, D=1e6)
-        spec = _core.HingeLockSpec(THETA_LOCK, 0.03, 0.2e-3, law._impl, 0.25, 0.01)
-    return _core.HingedSystem(free, M_BASE, J_BASE * np.diag([1.0, 1.2, 0.9]), P_HINGE,
-                              np.array([0.0, 1.0, 0.0]), Ry(-np.pi / 2), TAU0, K_THETA, 0.5, None,
-                              model._impl, list(plate.fixed_dofs("CFFF")), fidelity,
-                              base_com=np.array([0.1, -0.05, 0.02]), fitting_mass=0.5,
-                              fitting_com=np.array([0.01, 0.02, -0.01]), fitting_inertia=0.02 * np.eye(3),
-                              lock=spec, alpha_M=0.3, modes=4)
+        scene.set_lock(THETA_LOCK, 0.03, 0.2e-3, law, friction=dfx.contact.Friction(0.25, 0.01))
+    return scene.compile().core
 
 
-def close_lock(sys):
-    """Run until the pin rests on the stop: the lock's history (kept by the system after a run)
-    then has the stop in contact, and the residual carries its force at any theta. The plate's
-    ringing can lift the pin off again: the first run that ends in contact is kept."""
-    for t_end in np.arange(0.6, 1.5, 0.05):
-        tr = _core.simulate_hinged(sys, sys.initial_positions(), np.zeros(sys.num_velocities), t_end, 0.005,
-                                   dfx.integrators.GeneralizedAlpha(0.8)._params())
-        assert tr["failure"] == ""
-        if tr["lock_force"][-1] > 0:
-            return
-    raise AssertionError("the lock did not close")
+def closed_lock(sys):
+    """A run's data with the pin latched and resting on the stop: the residual then carries the
+    stop's force (and the groove's friction) at any theta."""
+    data = sys.make_data()
+    history = _core.LockHistory()
+    history.latched = True
+    history.stop_contact = True
+    history.stop_v0 = 0.1  # m/s, the approach speed at onset
+    data.set_lock(0, history)
+    return data
 
 
-def generic_state(sys, free, seed=0):
+def num_elastic(sys):
+    return sys.layout(0)["num_elastic"]
+
+
+def generic_state(sys, fidelity, free, seed=0):
     rng = np.random.default_rng(seed)
     n, nq = sys.num_velocities, sys.num_positions
     q = sys.initial_positions()
@@ -83,10 +85,10 @@ def generic_state(sys, free, seed=0):
         i = 6
     q[nq - n + i] = 0.3           # theta
     v[i] = 0.4                    # theta'
-    ne = sys.num_elastic
+    ne = num_elastic(sys)
     if ne:
-        if sys.basis.size:        # reduced: Ritz coordinates scaled to ~1 cm of displacement
-            scale = 1e-2 / np.abs(sys.basis).max(axis=0)
+        if fidelity.startswith("reduced"):  # Ritz coordinates scaled to ~1 cm of displacement
+            scale = 1e-2 / np.abs(sys.displacement_map(0)).max(axis=0)
         else:
             scale = np.full(ne, 1e-3)
         q[nq - ne:] = scale * rng.normal(size=ne)
@@ -109,7 +111,7 @@ def row_groups(sys, free, rows):
     """Row index groups of one unit each (momentum: P and H)."""
     if rows == "momentum":
         return [np.arange(3), np.arange(3, 6)]
-    n, ne = sys.num_velocities, sys.num_elastic
+    n, ne = sys.num_velocities, num_elastic(sys)
     groups = [np.arange(3), np.arange(3, 6)] if free else []
     nb = n - ne
     groups.append(np.arange(6 if free else 0, nb))
@@ -137,20 +139,19 @@ CASES = [(f, free, lock) for f in FIDELITIES for free in (True, False) for lock 
 def case(request):
     fidelity, free, lock = request.param
     sys = make_system(fidelity, free, lock)
-    if lock:
-        close_lock(sys)
-    q, v, a = generic_state(sys, free)
-    return fidelity, sys, free, lock, q, v, a
+    data = closed_lock(sys) if lock else None
+    q, v, a = generic_state(sys, fidelity, free)
+    return fidelity, sys, data, free, lock, q, v, a
 
 
-def test_iteration_matrix_equals_central_differences(case):
-    fidelity, sys, free, lock, q, v, a = case
+def test_newton_matrix_equals_central_differences(case):
+    fidelity, sys, data, free, lock, q, v, a = case
     n = sys.num_velocities
     t = 0.0
-    r = lambda qq, vv, aa: sys.residual(qq, vv, aa, t)
+    r = lambda qq, vv, aa: sys.residual(qq, vv, aa, t, data=data)
     hinge = 6 if free else 0
-    if lock:  # the stop is closed: its torque enters the hinge row
-        assert r(q, v, a)[hinge] != make_system(fidelity, free, False).residual(q, v, a, t)[hinge]
+    if lock:  # the stop is closed: its torque enters the hinge row (a fresh run's data: open)
+        assert r(q, v, a)[hinge] != sys.residual(q, v, a, t)[hinge]
     groups = row_groups(sys, free, "residual")
     ones = np.ones(n)
     fd_a = central(lambda aa: r(q, v, aa), lambda e: a + e, ones)
@@ -161,21 +162,21 @@ def test_iteration_matrix_equals_central_differences(case):
     fd_q = central(lambda qq: r(qq, v, a), lambda e: sys.retract(q, e), np.full(n, 1e-3))
     for (ca, cv, cq), fd, what in [((1, 0, 0), fd_a, "dr/da"), ((0, 1, 0), fd_v, "dr/dv"),
                                    ((0, 0, 1), fd_q, "dr/dq")]:
-        assert_matches(sys.iteration_matrix(q, v, a, t, ca, cv, cq), fd, groups, what)
+        assert_matches(sys.newton_matrix(q, v, a, t, ca, cv, cq, data=data), fd, groups, what)
     # A Newton combination is the same combination of the parts.
     c = (1.0, 0.6 * 0.01, 0.3 * 0.01 ** 2)
-    assert_matches(sys.iteration_matrix(q, v, a, t, *c), c[0] * fd_a + c[1] * fd_v + c[2] * fd_q, groups,
+    assert_matches(sys.newton_matrix(q, v, a, t, *c, data=data), c[0] * fd_a + c[1] * fd_v + c[2] * fd_q, groups,
                    "combination")
 
 
 def test_momentum_jacobian_equals_central_differences(case):
-    _, sys, free, _, q, v, _ = case
+    _, sys, data, free, _, q, v, _ = case
     n = sys.num_velocities
-    Pi = lambda qq, vv: sys.momentum(qq, vv)
+    Pi = lambda qq, vv: sys.momentum(qq, vv, data=data)
     fd_v = central(lambda vv: Pi(q, vv), lambda e: v + e, np.ones(n))  # Pi is linear in v
     fd_q = central(lambda qq: Pi(qq, v), lambda e: sys.retract(q, e), np.full(n, 1e-3))
     groups = row_groups(sys, free, "momentum")
-    assert_matches(sys.momentum_jacobian(q, v, 1.0, 0.0), fd_v, groups, "dPi/dv")
-    assert_matches(sys.momentum_jacobian(q, v, 0.0, 1.0), fd_q, groups, "dPi/dq")
-    assert_matches(sys.momentum_jacobian(q, v, 1.0, 0.01), fd_v + 0.01 * fd_q, groups, "combination")
+    assert_matches(sys.momentum_jacobian(q, v, 1.0, 0.0, data=data), fd_v, groups, "dPi/dv")
+    assert_matches(sys.momentum_jacobian(q, v, 0.0, 1.0, data=data), fd_q, groups, "dPi/dq")
+    assert_matches(sys.momentum_jacobian(q, v, 1.0, 0.01, data=data), fd_v + 0.01 * fd_q, groups, "combination")
 

@@ -17,10 +17,10 @@ def ringing(damping, fidelity="linear"):
     strip = scenes.spin_up_strip(20)
     model = (dfx.Scene().set_base(1.0, 1.0, free=False)
              .set_hinge(point=(0, 0, 0), axis=(0, 1, 0), spin_up=(0.05, 0.5))
-             .set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity, damping=damping)
+             .set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity=fidelity, damping=damping)
              .compile())
-    r = model.simulate(12.0, 0.005, scheme=dfx.integrators.Newmark())
-    tip = r.node_displacements[:, [20, 41], 2].mean(axis=1)
+    r = model.simulate(12.0, 0.005, scheme=dfx.integrators.Newmark(), nodes={0: [20, 41]})
+    tip = r.node_displacements_0[:, :, 2].mean(axis=1)
     t = r.t
     after = t > 1.0
     w, tt = tip[after], t[after]
@@ -48,7 +48,8 @@ def test_rayleigh_damping_ratio_from_the_logarithmic_decrement(damping, fidelity
 def test_negative_damping_is_rejected():
     strip = scenes.spin_up_strip(4)
     scene = (dfx.Scene().set_base(1.0, 1.0, free=False)
-             .set_hinge(point=(0, 0, 0), axis=(0, 1, 0), spin_up=(0.05, 0.5))
-             .set_appendage(strip.model, strip.fixed_dofs("CFFF"), "linear", damping=(0.0, -1e-3)))
-    with pytest.raises(ValueError, match="beta_K"):
-        scene.compile()
+             .set_hinge(point=(0, 0, 0), axis=(0, 1, 0), spin_up=(0.05, 0.5)))
+    with pytest.raises(ValueError, match="beta_K"):  # checked where it is set
+        scene.set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity="linear", damping=(0.0, -1e-3))
+    with pytest.raises(ValueError, match="alpha_M"):
+        scene.set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity="linear", damping=(-0.1, 0.0))

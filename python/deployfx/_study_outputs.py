@@ -87,6 +87,8 @@ def _column(result, spec: str, name: str, index: Optional[str]) -> np.ndarray:
         raise OutputError(f"output {spec!r}: the result has no series {name!r}; it has "
                           f"{', '.join(result.series)}")
     a = np.asarray(result[name], dtype=float)
+    if index is None and a.ndim == 2 and a.shape[1] == 1:  # a per-hinge series of one hinge
+        a = a[:, 0]
     if index is None:
         if a.ndim != 1:
             raise OutputError(f"output {spec!r}: series {name!r} has shape {a.shape}; choose a "
@@ -99,9 +101,11 @@ def _column(result, spec: str, name: str, index: Optional[str]) -> np.ndarray:
 
 def _number(spec: str, value: Any, index: Optional[str]) -> float:
     if isinstance(value, (list, tuple)):
+        if index is None and len(value) == 1:  # a per-hinge metric of a one-hinge scene
+            index = "0"
         if index is None:
-            raise OutputError(f"output {spec!r} has one value per hinge (a chain): choose hinge k "
-                              f"with '{spec}[k]'")
+            raise OutputError(f"output {spec!r} has one value per hinge ({len(value)} hinges): choose "
+                              f"hinge k with '{spec}[k]'")
         if int(index) >= len(value):
             raise OutputError(f"output {spec!r}: the chain has {len(value)} hinges")
         value = value[int(index)]
@@ -125,7 +129,11 @@ def scalar(result, name: str, spec: Any, summary: Callable[[], dict]) -> float:
         return float(value)
     m = _SUMMARY.match(spec)
     if m and m.group(1) in SUMMARY_KEYS:
-        return _number(spec, summary()[m.group(1)], m.group(2))
+        s = summary()
+        if m.group(1) not in s:
+            raise OutputError(f"output {spec!r}: the scene does not measure {m.group(1)!r} (its summary has "
+                              f"{', '.join(s)})")
+        return _number(spec, s[m.group(1)], m.group(2))
     how, series, index = _REDUCED.match(spec).groups()
     a = _column(result, spec, series, index)
     if how == "max":
