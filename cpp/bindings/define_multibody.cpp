@@ -296,7 +296,7 @@ void define_multibody(py::module_& m) {
             s.check_state(q, Eigen::VectorXd::Zero(s.num_velocities()));
             if (!s.base_free()) throw std::invalid_argument("base_velocity_jacobian: the base is fixed");
             DataArg d(s, data);
-            return Eigen::MatrixXd(base_velocity_jacobian(s, *d.data, q));
+            return Eigen::MatrixXd(base_velocity_jacobian(s, *d.data, q, 0.0));
           },
           py::arg("q"), py::kw_only(), py::arg("data") = nullptr,
           "dPi/d(v_W, w_B), (6 x 6), from the composite inertia (the momentum polish's matrix).")

@@ -280,9 +280,8 @@ class Result:
 
         System: ``max_node_E_deflection_m`` (m, the paper's node E, when recorded),
         ``body_attitude_change_deg`` (deg, |``body_attitude``[-1] - ``body_attitude``[0]|, free base),
-        ``momentum_drift`` (free base without a prescribed hinge: the total linear and angular
-        momentum's largest change relative to the momentum the bodies carry, metadata
-        ``momentum_scale``), ``steps`` and ``wall_time_s`` (s) from the metadata.
+        ``momentum_drift`` (free base: the total linear and angular momentum's largest change
+        relative to the momentum the bodies carry, metadata ``momentum_scale``), ``steps`` and ``wall_time_s`` (s) from the metadata.
         """
         s = self._series
         t = s["t"]
@@ -335,10 +334,9 @@ class Result:
         if "node_E_deflection" in s:
             out["max_node_E_deflection_m"] = metrics.max_abs(s["node_E_deflection"], "node_E_deflection")
         free = self._metadata.get("base_free", True)
-        driven = any(isinstance(i, dict) and i.get("driven") for i in infos)
         if free and "body_attitude" in s:
             out["body_attitude_change_deg"] = metrics.attitude_change(s["body_attitude"])
-        if free and not driven and "total_angular_momentum" in s and "body_angular_momentum" in s:
+        if free and "total_angular_momentum" in s and "body_angular_momentum" in s:
             drift = self._momentum_drift()
             if drift is not None:
                 out["momentum_drift"] = drift

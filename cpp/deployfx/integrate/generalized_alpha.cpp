@@ -52,19 +52,19 @@ AlphaState GeneralizedAlpha::initial_state(double t0, const Eigen::VectorXd& q0,
   return s;
 }
 
-void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v,
+void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v, double t,
                                        const Eigen::VectorXd& Pi) {
   // Pi is linear in v: one solve with dPi/dv on the conserved velocities is exact.
   const int nc = sys_.num_conserved();
-  const Eigen::MatrixXd J = sys_.conserved_velocity_jacobian(q, v);
-  v.head(nc) += J.partialPivLu().solve(Pi - sys_.momentum(q, v));
+  const Eigen::MatrixXd J = sys_.conserved_velocity_jacobian(q, v, t);
+  v.head(nc) += J.partialPivLu().solve(Pi - sys_.momentum(q, v, t));
 }
 
 int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess) {
   const double am = p_.alpha_m, af = p_.alpha_f, beta = p_.beta, gamma = p_.gamma;
   const double t1 = s.t + h;
   const int nc = sys_.num_conserved();
-  const Eigen::VectorXd Pi_n = nc ? sys_.momentum(s.q, s.v) : Eigen::VectorXd();
+  const Eigen::VectorXd Pi_n = nc ? sys_.momentum(s.q, s.v, s.t) : Eigen::VectorXd();
   // a_{n+1} as a function of vdot_{n+1}; c = d a_{n+1} / d vdot_{n+1}.
   const double c = (1 - af) / (1 - am);
   auto a_of = [&](const Eigen::VectorXd& vd) { return ((1 - af) * vd + af * s.vdot - am * s.a) / (1 - am); };
@@ -122,7 +122,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     ve.head(nc) = w;
     const Eigen::VectorXd r = sys_.residual(q1, v1, ve, t1);
     // Eq. 42-43, integrated: the momentum rows, scaled like accelerations.
-    const Eigen::VectorXd rm = nc ? Eigen::VectorXd((sys_.momentum(q1, v1) - Pi_n) / (h * gamma * c)) : Eigen::VectorXd();
+    const Eigen::VectorXd rm = nc ? Eigen::VectorXd((sys_.momentum(q1, v1, t1) - Pi_n) / (h * gamma * c)) : Eigen::VectorXd();
     if (!r.allFinite() || !rm.allFinite()) throw fail("the residual is not finite");
     auto factorize_here = [&] {
       // With the momentum rows, their d/dvdot (up to the factor h gamma c): dPi/dv + (h beta /
@@ -201,7 +201,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       const Eigen::VectorXd a_new = a_of(vdot);
       s.q = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a_new));
       s.v += h * ((1 - gamma) * s.a + gamma * a_new);
-      if (nc) polish_momentum(s.q, s.v, Pi_n);
+      if (nc) polish_momentum(s.q, s.v, t1, Pi_n);
       s.vdot_prev = std::move(s.vdot);
       s.h_prev = h;
       s.vdot = vdot;

@@ -106,7 +106,7 @@ class GeneralizedAlpha {
   long factorizations() const { return solver_.factorizations(); }
 
  private:
-  void polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v, const Eigen::VectorXd& Pi);
+  void polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v, double t, const Eigen::VectorXd& Pi);
   SecondOrderSystem& sys_;
   AlphaParameters p_;
   NewtonOptions newton_;

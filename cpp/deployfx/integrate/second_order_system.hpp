@@ -43,8 +43,9 @@ class SecondOrderSystem {
   // those rows by Pi(q_{n+1}, v_{n+1}) = Pi(q_n, v_n) to conserve momentum to round-off.
   /// Number of leading residual rows that are momentum balances (0: none).
   virtual int num_conserved() const { return 0; }
-  /// Pi(q, v), size num_conserved(), in a fixed (inertial) frame.
-  virtual Eigen::VectorXd momentum(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/) {
+  /// Pi(q, v, t), size num_conserved(), in a fixed (inertial) frame (t matters where a motion is
+  /// prescribed: conserved all the same when it acts between the system's own bodies).
+  virtual Eigen::VectorXd momentum(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/, double /*t*/) {
     return {};
   }
   /// c_v dPi/dv + c_q dPi/dq, (num_conserved() x num_velocities()).
@@ -65,7 +66,7 @@ class SecondOrderSystem {
   }
   /// dPi/dv on the conserved velocities alone (num_conserved() square): Pi is linear in v, so
   /// this is what a momentum polish solves with. Default: momentum_jacobian's leading columns.
-  virtual Eigen::MatrixXd conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  virtual Eigen::MatrixXd conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double /*t*/) {
     return momentum_jacobian(q, v, 1.0, 0.0).leftCols(num_conserved());
   }
 

@@ -132,6 +132,12 @@ Model::Model(TreeSpec spec) : spec_(std::move(spec)) {
       b.rigid = merged(b.rigid, ffi.mass(), ffi.S0(), ffi.J0());
     }
   }
+  for (int k = 0; k < N; ++k) {  // a hinge turning nothing has no equation of motion
+    const Body& b = bodies_[k];
+    if (!b.panel && b.children.empty() && b.rigid.mass == 0 && b.rigid.inertia_com.isZero(0.0))
+      throw std::invalid_argument("hinges[" + std::to_string(k) + "].body carries no inertia: give the hinge a "
+                                  "fitting, a rigid part or a panel (a massless body has no equation of motion)");
+  }
   for (int k = 0; k < N; ++k) {
     const int p = bodies_[k].parent;
     if (p >= 0 && bodies_[p].panel) {

@@ -91,9 +91,9 @@ class Model {
   int num_velocities() const { return nv_; }
   int border() const { return nb_; }   ///< base and hinge coordinates
   int elastic() const { return nv_ - nb_; }
-  /// A free base with no prescribed hinge conserves [P_W; H_W] (the paper's Eq. 36-43); a
-  /// prescribed theta(t) makes Pi depend on t.
-  int num_conserved() const { return base_free() && !driven_ ? 6 : 0; }
+  /// A free base conserves [P_W; H_W] (the paper's Eq. 36-43): no external load acts, and a
+  /// prescribed hinge angle acts between the system's own bodies (Pi then depends on t too).
+  int num_conserved() const { return base_free() ? 6 : 0; }
   /// Whether a hinge's angle is prescribed (the kinematics then depend on t).
   bool driven() const { return driven_; }
   const ElasticPattern& pattern() const { return pattern_; }

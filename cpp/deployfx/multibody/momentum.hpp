@@ -27,7 +27,7 @@ Vector6<double> base_momentum(const Model& m, const Data& d);
 /// the base's velocity at W's origin, (v_W - w x r_W, w), w = R_WB w_B (Featherstone 2008,
 /// Sec. 6.2: the composite rigid body). Equal to momentum_jacobian's base columns at c_q = 0;
 /// stages the kinematics in d.
-Eigen::Matrix<double, 6, 6> base_velocity_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q);
+Eigen::Matrix<double, 6, 6> base_velocity_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q, double t);
 /// The momentum's tangent along a derivative pass (seeds.hpp) at the staged state: each body's
 /// spatial inertia and momentum there, prepared once for all the passes.
 struct MomentumTangent {

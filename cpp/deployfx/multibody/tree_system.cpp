@@ -28,8 +28,8 @@ integrate::BlockMatrix TreeSystem::iteration_matrix_and_momentum_jacobian(const 
   return newton_matrix(m_, d_, q, v, a, t, c_a, c_v, c_q, &momentum_jacobian);
 }
 
-Eigen::VectorXd TreeSystem::momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-  return multibody::momentum(m_, d_, q, v, d_.t);
+Eigen::VectorXd TreeSystem::momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
+  return multibody::momentum(m_, d_, q, v, t);
 }
 
 Eigen::MatrixXd TreeSystem::momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
@@ -37,8 +37,8 @@ Eigen::MatrixXd TreeSystem::momentum_jacobian(const Eigen::VectorXd& q, const Ei
   return multibody::momentum_jacobian(m_, d_, q, v, c_v, c_q);
 }
 
-Eigen::MatrixXd TreeSystem::conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd&) {
-  return base_velocity_jacobian(m_, d_, q);
+Eigen::MatrixXd TreeSystem::conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd&, double t) {
+  return base_velocity_jacobian(m_, d_, q, t);
 }
 
 Eigen::VectorXd TreeSystem::gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double) {

@@ -25,10 +25,10 @@ class TreeSystem final : public integrate::SecondOrderSystem {
                                                                 double c_v, double c_q,
                                                                 Eigen::MatrixXd& momentum_jacobian) override;
   int num_conserved() const override { return m_.num_conserved(); }
-  Eigen::VectorXd momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v) override;
+  Eigen::VectorXd momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) override;
   Eigen::MatrixXd momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
                                     double c_q) override;
-  Eigen::MatrixXd conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v) override;
+  Eigen::MatrixXd conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) override;
   Eigen::VectorXd gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) override;
   void accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t, const Eigen::VectorXd& margin) override;
   double newton_step_limit(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& dv) override;
