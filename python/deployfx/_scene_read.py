@@ -114,8 +114,8 @@ def _old_options(t: Mapping[str, Any], where: str, allowed: tuple) -> dict:
         raise ValueError(f"{where}.options must be a table (mapping), got {type(opts).__name__}")
     unknown = sorted(set(opts) - set(allowed))
     if unknown:
-        raise ValueError(f"{where}.options has unknown key(s) {', '.join(unknown)}; allowed: "
-                         f"{', '.join(allowed) or 'none'}")
+        names = ", ".join(f"{where}.options.{k}" for k in unknown)
+        raise ValueError(f"{where}.options has unknown key(s) {names}; allowed: {', '.join(allowed) or 'none'}")
     return dict(opts)
 
 
@@ -162,12 +162,14 @@ def _read_appendage(scene: Scene, a: Any, where: str, k: int, version: int) -> N
         opts = {"modes": a["modes"]}
         if "derivative_modes" in a:
             opts["derivative_modes"] = a["derivative_modes"]
+        table = where
     else:
         a = _table(a, where, ("fidelity", "fixed_dofs", "alpha_M_per_s", "beta_K_s", "shell"), ("options",))
         opts = _old_options(a, where, _OLD_APPENDAGE_OPTIONS)
+        table = f"{where}.options"
     for key, value in opts.items():
         if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-            raise ValueError(f"{where}.{key} must be an integer, got {value!r}")
+            raise ValueError(f"{table}.{key} must be an integer, got {value!r}")
     shell = _read_shell(a["shell"], f"{where}.shell")
     if not isinstance(a["fidelity"], str):
         raise ValueError(f"{where}.fidelity must be a string, got {a['fidelity']!r}")
@@ -199,10 +201,21 @@ def _read_lock(scene: Scene, L: Any, where: str, k: int, version: int) -> None:
                        _number(L["clearance_m"], f"{where}.clearance_m"), contact, friction=friction, hinge=k)
 
 
-def _add_hinge(scene: Scene, parent, args: dict, where: str) -> None:
+def _add_hinge(scene: Scene, parent, args: dict, where: str, R_key: str) -> None:
+    """Hinge ``where`` on ``parent``. Version 1's one hinge is Scene.set_hinge's (its errors name
+    ``hinge.<parameter>`` and ``hinge.R_BE0``, as the file does); a version-3 file calls the
+    rotation ``R_PC0`` where add_hinge's errors say ``R_PE0``."""
     R = args.pop("R")
     with _at(where):
-        scene.add_hinge(parent, R_PE0=R, **args)
+        if R_key == "R_BE0":
+            scene.set_hinge(R_BE0=R, **args)
+            return
+        try:
+            scene.add_hinge(parent, R_PE0=R, **args)
+        except ValueError as e:
+            if R_key == "R_PE0" or f"{where}.R_PE0" not in str(e):
+                raise
+            raise ValueError(str(e).replace(f"{where}.R_PE0", f"{where}.{R_key}")) from e
 
 
 def _read_version_1(scene: Scene, top: Mapping[str, Any]) -> None:
@@ -213,7 +226,7 @@ def _read_version_1(scene: Scene, top: Mapping[str, Any]) -> None:
     h = _table(top["hinge"], "hinge", ("point_m", "axis", "R_BE0", "tau0_N_m", "k_theta_N_m_per_rad",
                                        "c_theta_N_m_s_per_rad", "fitting"), ("spin_up", "options"))
     _old_options(h, "hinge", ())
-    _add_hinge(scene, "base", _hinge_args(h, "hinge", "R_BE0"), "hinge")
+    _add_hinge(scene, "base", _hinge_args(h, "hinge", "R_BE0"), "hinge", "R_BE0")
     _read_appendage(scene, top["appendage"], "appendage", 0, 1)
     if "lock" in top:
         _read_lock(scene, top["lock"], "lock", 0, 1)
@@ -250,8 +263,9 @@ def _read_hinges(scene: Scene, top: Mapping[str, Any], version: int) -> None:
             allowed = "'base'" + (f" or an earlier hinge's index in [0, {k - 1}]" if k else "")
         if not ok:
             raise ValueError(f"{where}.parent = {parent!r} is out of range: must be {allowed}")
-        _add_hinge(scene, parent if isinstance(parent, str) else int(parent),
-                   _hinge_args(h, where, "R_PE0" if version == 2 else "R_PC0"), where)
+        R_key = "R_PE0" if version == 2 else "R_PC0"
+        _add_hinge(scene, parent if isinstance(parent, str) else int(parent), _hinge_args(h, where, R_key), where,
+                   R_key)
         _read_parts(scene, h.get("parts", []), f"{where}.parts", k)
         if "appendage" in h:
             _read_appendage(scene, h["appendage"], f"{where}.appendage", k, version)

@@ -71,8 +71,8 @@ Older versions (read only): version 2 is a serial chain (hinge k's parent is k -
 Loading checks the file: an unknown schema or version, a missing or unknown key, a value of the
 wrong type or shape raises ``ValueError`` naming the key (e.g.
 ``hinges[1].appendage.shell.nodes_m``); the builder then checks the values themselves, and its
-errors are prefixed with the file's table when they do not name it (``hinges[0]: hinge.axis =
-...``).
+errors are prefixed with the file's table when they do not name it (``hinges[0].lock: lock.clearance
+= ...``).
 """
 from __future__ import annotations
 
