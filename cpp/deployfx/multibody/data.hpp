@@ -45,6 +45,15 @@ class Data {
   std::vector<Vector6<double>> wrench;  ///< per hinge: its body's inertial wrench
   std::vector<Eigen::VectorXd> Q;       ///< per hinge: its panel's generalized inertial force
   Wrenches<double> wrenches;
+  /// Scratch of the derivative passes (seeds.hpp): the seeded state, its motion, the bodies'
+  /// wrenches and the backward pass's, on Duals.
+  struct Pass {
+    BaseMotion<Dual> base;
+    std::vector<JointState<Dual>> joints;
+    TreeMotion<Dual> motion;
+    std::vector<Vector6<Dual>> wrench;
+    Wrenches<Dual> wrenches;
+  } pass;
 
   /// Forgets the history (a new run).
   void reset_history();

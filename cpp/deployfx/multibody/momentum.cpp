@@ -1,5 +1,7 @@
 #include "deployfx/multibody/momentum.hpp"
 
+#include <algorithm>
+
 #include "deployfx/multibody/seeds.hpp"
 
 namespace deployfx::multibody {
@@ -105,21 +107,27 @@ void MomentumTangent::prepare(const Model& m, Data& d) {
   pb = (Mb * pb).eval();
 }
 
-Vector6<double> MomentumTangent::tangent(const Model& m, const BaseMotion<Dual>& base,
-                                        const TreeMotion<Dual>& motion) const {
+Eigen::Matrix<double, 6, Eigen::Dynamic> MomentumTangent::tangents(const Model& m, const BaseMotion<Dual>& base,
+                                                                   const TreeMotion<Dual>& motion, int count) const {
   // Each body's momentum is linear in its (V, w) for the staged d, d': its tangent is M (V, w)'.
+  auto body = [&](const Matrix6d& M, const Vector6<double>& p, const Vector3<Dual>& V, const Vector3<Dual>& w) {
+    Vector6<Dual> x = dual(p);
+    Vector6<double> nu;
+    for (int j = 0; j < count; ++j) {
+      nu << multibody::tangent(V, j), multibody::tangent(w, j);
+      seed(x, j, Vector6<double>(M * nu));
+    }
+    return x;
+  };
   Vector6<Dual> Pi = Vector6<Dual>::Zero();
-  Vector6<double> nu;
-  if (m.base_free()) {
-    nu << multibody::tangent(base.V_B), multibody::tangent(base.w_B);
-    Pi += to_world<Dual>(base.R_WB, base.r_W, dual(pb, Vector6<double>(Mb * nu)));
-  }
+  if (m.base_free()) Pi += to_world<Dual>(base.R_WB, base.r_W, body(Mb, pb, base.V_B, base.w_B));
   for (int k = 0; k < m.num_hinges(); ++k) {
     const BodyMotion<Dual>& C = motion.body[k];
-    nu << multibody::tangent(C.V), multibody::tangent(C.w);
-    Pi += to_world<Dual>(C.R_WC, C.o_W, dual(p[k], Vector6<double>(ME[k] * nu)));
+    Pi += to_world<Dual>(C.R_WC, C.o_W, body(ME[k], p[k], C.V, C.w));
   }
-  return multibody::tangent(Pi);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> T(6, count);
+  for (int j = 0; j < count; ++j) T.col(j) = multibody::tangent(Pi, j);
+  return T;
 }
 
 Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd& T, double c_v, double c_q) {
@@ -164,14 +172,16 @@ Eigen::MatrixXd momentum_jacobian(const Model& m, Data& d, const Eigen::VectorXd
   pass.prepare(m, d);
   // Border and attachment coordinates: derivative passes of the kinematics (no accelerations).
   const std::vector<Seed>& seeds = m.seeds();
-  BaseMotion<Dual> base;
-  std::vector<JointState<Dual>> joints;
-  TreeMotion<Dual> motion;
-  Eigen::MatrixXd T(6, static_cast<Eigen::Index>(seeds.size()));
-  for (std::size_t col = 0; col < seeds.size(); ++col) {
-    seeded_state(m, d, seeds[col], c_q, c_v, 0.0, base, joints);
+  BaseMotion<Dual>& base = d.pass.base;
+  std::vector<JointState<Dual>>& joints = d.pass.joints;
+  TreeMotion<Dual>& motion = d.pass.motion;
+  const int nc = static_cast<int>(seeds.size());
+  Eigen::MatrixXd T(6, nc);
+  for (int first = 0; first < nc; first += kDualDirections) {
+    const int count = std::min(kDualDirections, nc - first);
+    seeded_state(m, d, first, count, c_q, c_v, 0.0, base, joints);
     forward_kinematics<Dual>(m, base, joints, motion);
-    T.col(static_cast<Eigen::Index>(col)) = pass.tangent(m, base, motion);
+    T.middleCols(first, count) = pass.tangents(m, base, motion, count);
   }
   return momentum_columns(m, d, T, c_v, c_q);
 }

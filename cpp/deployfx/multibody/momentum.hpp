@@ -36,8 +36,9 @@ struct MomentumTangent {
   std::vector<Eigen::Matrix<double, 6, 6>> ME;
   std::vector<Vector6<double>> p;
   void prepare(const Model& m, Data& d);
-  /// The tangent of Pi for the pass's motion (base and bodies on Duals), (6).
-  Vector6<double> tangent(const Model& m, const BaseMotion<Dual>& base, const TreeMotion<Dual>& motion) const;
+  /// The tangents of Pi along the pass's first `count` directions (base and bodies on Duals), (6 x count).
+  Eigen::Matrix<double, 6, Eigen::Dynamic> tangents(const Model& m, const BaseMotion<Dual>& base,
+                                                    const TreeMotion<Dual>& motion, int count) const;
 };
 /// c_v dPi/dv + c_q dPi/dq from the derivative passes' tangents T (6 x Model::seeds(), taken
 /// with these coefficients) and each panel's own columns in closed form, at the staged state.

@@ -84,32 +84,48 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
   for (int k : m.panels()) T9[k].resize(9, nc);
   for (int k = 0; k < N; ++k)
     if (m.body(k).attachment) TZ[k].resize(6, nc);
-  BaseMotion<Dual> base;
-  std::vector<JointState<Dual>> joints;
-  TreeMotion<Dual> motion;
-  Wrenches<Dual> W;
-  std::vector<Vector6<Dual>> fd(N);
-  for (int col = 0; col < nc; ++col) {
-    seeded_state(m, d, seeds[col], c_q, c_v, c_a, base, joints);
+  BaseMotion<Dual>& base = d.pass.base;
+  std::vector<JointState<Dual>>& joints = d.pass.joints;
+  TreeMotion<Dual>& motion = d.pass.motion;
+  Wrenches<Dual>& W = d.pass.wrenches;
+  std::vector<Vector6<Dual>>& fd = d.pass.wrench;
+  fd.resize(N);
+  for (int first = 0; first < nc; first += kDualDirections) {  // kDualDirections columns a pass
+    const int count = std::min(kDualDirections, nc - first);
+    seeded_state(m, d, first, count, c_q, c_v, c_a, base, joints);
     forward_kinematics<Dual>(m, base, joints, motion);
     for (int k = 0; k < N; ++k) {
       const BodyMotion<Dual>& C = motion.body[k];
-      const Eigen::Matrix<double, 9, 1> t9 = motion_tangent(C.a, C.al, C.w);
-      fd[k] = dual(f[k], Vector6<double>(G[k] * t9));
-      if (m.body(k).panel) T9[k].col(col) = t9;
+      fd[k] = dual(f[k]);
+      for (int j = 0; j < count; ++j) {
+        const Eigen::Matrix<double, 9, 1> t9 = motion_tangent(C.a, C.al, C.w, j);
+        seed(fd[k], j, Vector6<double>(G[k] * t9));
+        if (m.body(k).panel) T9[k].col(first + j) = t9;
+      }
     }
     backward_pass<Dual>(m, motion, fd, W);
-    if (with_momentum) PT.col(col) = momentum.tangent(m, base, motion);
+    if (with_momentum) PT.middleCols(first, count) = momentum.tangents(m, base, motion, count);
+    Vector6<Dual> fbd;
     if (m.base_free()) {
-      const Vector6<Dual> fbd = dual(fb, Vector6<double>(Gb * motion_tangent(base.a_B, base.wd_B, base.w_B))) + W.root;
-      BR.block<3, 1>(0, col) = tangent(Vector3<Dual>(base.R_WB * fbd.head<3>()));
-      BR.block<3, 1>(3, col) = tangent(Vector3<Dual>(fbd.tail<3>()));
+      fbd = dual(fb);
+      for (int j = 0; j < count; ++j)
+        seed(fbd, j, Vector6<double>(Gb * motion_tangent(base.a_B, base.wd_B, base.w_B, j)));
+      fbd += W.root;
     }
-    for (int k = 0; k < N; ++k) {
-      const Body& b = m.body(k);
-      if (b.iv_theta >= 0)
-        BR(b.iv_theta, col) = W.hinge[k].d - (torque[k].d_theta * joints[k].theta.d + torque[k].d_rate * joints[k].rate.d);
-      if (b.attachment) TZ[k].col(col) = tangent(W.attach[k]);
+    const Vector3<Dual> F_W = base.R_WB * fbd.head<3>();
+    for (int j = 0; j < count; ++j) {
+      const int col = first + j;
+      if (m.base_free()) {
+        BR.block<3, 1>(0, col) = tangent(F_W, j);
+        BR.block<3, 1>(3, col) = tangent(Vector3<Dual>(fbd.tail<3>()), j);
+      }
+      for (int k = 0; k < N; ++k) {
+        const Body& b = m.body(k);
+        if (b.iv_theta >= 0)
+          BR(b.iv_theta, col) = W.hinge[k].d[j] - (torque[k].d_theta * joints[k].theta.d[j] +
+                                                   torque[k].d_rate * joints[k].rate.d[j]);
+        if (b.attachment) TZ[k].col(col) = tangent(W.attach[k], j);
+      }
     }
   }
   // The elastic rows' tangents (ne x nc): each panel's dQ/d(a, al, w) T9 and the attachments' P^T TZ.
