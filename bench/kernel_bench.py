@@ -53,8 +53,8 @@ def main() -> None:
     args = ap.parse_args()
 
     scene = dfx.scenes.paper2016(2, "reduced-nonlinear", nx=args.nx, ny=args.ny, modes=args.modes)
-    shell = scene.model.shell
-    Phi = np.asarray(scene.model.basis)
+    shell = scene.model.shells[0]
+    Phi = np.asarray(scene.model.basis(0))
     r = Phi.shape[1]
     rng = np.random.default_rng(0)
     eta = 1e-2 * rng.standard_normal(r)

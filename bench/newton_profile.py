@@ -6,7 +6,7 @@ the median wall time of the engine's evaluations through the bindings:
 
 - ``res``: one ``residual(q, v, a, t)``, the baseline of the ratios (measured in the same
   process, so a noisy machine still gives meaningful ratios);
-- ``iter``: one ``iteration_matrix(q, v, a, t, 1, gamma h c, beta h^2 c)`` (the binding returns
+- ``iter``: one ``newton_matrix(q, v, a, t, 1, gamma h c, beta h^2 c)`` (the binding returns
   it dense: for the full meshes the copy is part of the time, ``dense`` estimates it);
 - ``mom_J``: one ``momentum_jacobian(q, v, 1, beta h / gamma)`` (free base only);
 - the run: ``ms/step``, Newton iterations and factorizations per step, ``ms/it`` (wall time per
@@ -66,7 +66,8 @@ def solve_floor(nx: int, ny: int, h: float, beta: float) -> float:
 def profile(model: str, nx: int, ny: int, modes: int, t_end: float, dt: float, t_eval: float,
             run: bool) -> dict:
     scene = dfx.scenes.paper2016(layup=2, model=model, nx=nx, ny=ny, modes=modes)
-    sys = scene.model.system
+    model = scene.model
+    sys = model.core
     p = GeneralizedAlpha(RHO)._params()
     am, af, beta, gamma = p.alpha_m, p.alpha_f, p.beta, p.gamma
     c = (1 - af) / (1 - am)
@@ -75,7 +76,7 @@ def profile(model: str, nx: int, ny: int, modes: int, t_end: float, dt: float, t
     # The state to evaluate at: from a run (to t_eval, or the whole run when timed).
     t_state = t_end if run else t_eval
     start = time.perf_counter()
-    raw = _core.simulate_hinged(sys, q0, v0, t_state, dt, p)
+    raw = _core.simulate(sys, q0, v0, t_end=t_state, dt=dt, scheme=p)
     wall = time.perf_counter() - start
     if run:
         n = max(int(raw["substeps"]), 1)
@@ -99,13 +100,15 @@ def profile(model: str, nx: int, ny: int, modes: int, t_end: float, dt: float, t
             return f(*states[count[0] % 2])
         return g
 
-    out["res"] = timed(alternate(lambda q, v: sys.residual(q, v, a, t)))
-    out["iter"] = timed(alternate(lambda q, v: sys.iteration_matrix(q, v, a, t, 1.0, gamma * dt * c,
-                                                                    beta * dt * dt * c)))
-    S = sys.iteration_matrix(*states[0], a, t, 1.0, gamma * dt * c, beta * dt * dt * c)
+    data = model.make_data()  # one run's data: its memos, as in the run
+    out["res"] = timed(alternate(lambda q, v: sys.residual(q, v, a, t, data=data)))
+    out["iter"] = timed(alternate(lambda q, v: sys.newton_matrix(q, v, a, t, 1.0, gamma * dt * c,
+                                                                 beta * dt * dt * c, data=data)))
+    S = sys.newton_matrix(*states[0], a, t, 1.0, gamma * dt * c, beta * dt * dt * c, data=data)
     out["dense"] = timed(lambda: S.copy())
     if sys.num_conserved:
-        out["mom_J"] = timed(alternate(lambda q, v: sys.momentum_jacobian(q, v, 1.0, dt * beta / gamma)))
+        out["mom_J"] = timed(alternate(lambda q, v: sys.momentum_jacobian(q, v, 1.0, dt * beta / gamma,
+                                                                          data=data)))
     return out
 
 

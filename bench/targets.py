@@ -45,12 +45,12 @@ def dense_solve(model: str, nx: int, ny: int, modes: int, dt: float, columns: in
     solve with ``columns`` right-hand sides at once, per column (one column's call would time
     scipy's argument checks, not the solve)."""
     scene = dfx.scenes.paper2016(layup=2, model=model, nx=nx, ny=ny, modes=modes)
-    sys = scene.model.system
+    sys = scene.model.core
     p = GeneralizedAlpha(RHO)._params()
     c = (1 - p.alpha_f) / (1 - p.alpha_m)
     n = sys.num_velocities
-    S = sys.iteration_matrix(sys.initial_positions(), np.zeros(n), np.zeros(n), 0.0, 1.0,
-                             p.gamma * dt * c, p.beta * dt * dt * c)
+    S = sys.newton_matrix(sys.initial_positions(), np.zeros(n), np.zeros(n), 0.0, 1.0,
+                          p.gamma * dt * c, p.beta * dt * dt * c)
     lu = scipy.linalg.lu_factor(S)
     B = np.random.default_rng(0).standard_normal((n, columns))
     return timed(lambda: scipy.linalg.lu_solve(lu, B)) / columns
