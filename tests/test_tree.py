@@ -245,3 +245,19 @@ def test_two_threads_on_one_model_give_the_serial_bits():
             for name in serial.series:
                 assert np.array_equal(r[name], serial[name]), name
         assert serial.summary()["impacts"][0] >= 1  # the lock closed within the run
+
+
+@pytest.mark.parametrize("fidelity", ["linear", "nonlinear", "reduced-linear", "reduced-nonlinear"])
+def test_a_panel_its_supports_leave_free_is_refused_naming_fixed_dofs(fidelity):
+    """Reference: a structure free to move as a rigid body against its supports has a singular
+    stiffness (six rigid-body modes of a free plate; three held dofs of one node leave the
+    rotations about it free): compile refuses it, naming the parameter, instead of failing later
+    in Newton or in the basis."""
+    shell, root = panel(nx=2, ny=1)
+    for fixed in ([], [0, 1, 2]):
+        s = (dfx.Scene().set_base(1.0, 1.0, free=False).add_hinge("base", (0.0, 0.0, 0.0), Y, fitting_inertia=0.01)
+             .set_appendage(shell, fixed, fidelity=fidelity, modes=2))
+        with pytest.raises(ValueError, match=r"hinges\[0\]\.panel\.fixed_dofs leave the panel free to move"):
+            s.compile()
+    s.set_appendage(shell, root, fidelity=fidelity, modes=2)
+    assert s.compile().deforming == (True,)

@@ -1,5 +1,6 @@
 #include "deployfx/body/flexible_body.hpp"
 
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -20,6 +21,27 @@ Fidelity fidelity_from_name(const std::string& value, const std::string& name) {
                               "'reduced-nonlinear'");
 }
 
+namespace {
+
+// A deforming panel's clamped dofs must hold it to its frame: its stiffness on the free dofs
+// must be definite (the shell's drilling penalty makes it so for any proper support). A panel
+// left free to move rigidly against its frame has no elastic equilibrium.
+void check_clamped(const fem::ShellModel& model, const std::vector<int>& fixed, const std::string& name) {
+  const std::vector<int> free = fem::free_dofs(model.num_dofs(), fixed);
+  if (free.empty())
+    throw std::invalid_argument(name + ".fixed_dofs clamps every dof of the mesh: a flexible panel needs free "
+                                "dofs (use the fidelity 'rigid' for a panel that does not deform)");
+  const Eigen::SparseMatrix<double> K = fem::restrict(model.stiffness(), free);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(K);
+  const double scale = K.diagonal().cwiseAbs().maxCoeff();
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12 * scale))
+    throw std::invalid_argument(name + ".fixed_dofs leave the panel free to move as a rigid body against its frame "
+                                "(its stiffness on the free dofs is singular): clamp its root to the frame, e.g. "
+                                "every dof of the root edge's nodes");
+}
+
+}  // namespace
+
 FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Eigen::MatrixXd& extra_loads)
     : spec_(std::move(spec)),
       ffi_(spec_.model ? *spec_.model : throw std::invalid_argument(name + ".model is missing")) {
@@ -29,6 +51,7 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     throw_out_of_range(name + ".beta_K", spec_.beta_K, "finite and >= 0 (s)");
   green_ = spec_.fidelity == Fidelity::kNonlinear || spec_.fidelity == Fidelity::kReducedNonlinear;
   const fem::ShellModel& model = *spec_.model;
+  if (flexible()) check_clamped(model, spec_.fixed_dofs, name);
   if (spec_.fidelity == Fidelity::kReducedLinear || spec_.fidelity == Fidelity::kReducedNonlinear) {
     const int nfree = static_cast<int>(fem::free_dofs(model.num_dofs(), spec_.fixed_dofs).size());
     if (!(spec_.modes >= 1 && spec_.modes <= nfree))
@@ -60,9 +83,6 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     align_Mij();
   } else if (flexible()) {
     free_ = fem::free_dofs(model.num_dofs(), spec_.fixed_dofs);
-    if (free_.empty())
-      throw std::invalid_argument(name + ".fixed_dofs clamps every dof of the mesh: a flexible panel needs free "
-                                  "dofs (use the fidelity 'rigid' for a panel that does not deform)");
     K_free_ = fem::restrict(model.stiffness(), free_);
     M_free_ = fem::restrict(ffi_.M(), free_);
     // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
