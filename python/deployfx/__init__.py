@@ -7,11 +7,15 @@
   :mod:`deployfx.scenes` holds the paper's scene (``scenes.paper2016``) and the spin-up beam.
 - Results: :class:`Result` (series, units, ``summary()``, ``save``/:func:`load`), :mod:`plot`.
 - Scene files: :func:`save_scene` / :func:`load_scene` (JSON or TOML, :mod:`deployfx.scene_file`).
+- Ply stresses: :class:`Strengths`, :mod:`stress` (ply stresses, failure indices, a run's
+  envelope), :mod:`stress_plot`.
 SI units throughout.
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import Plate, ShellModel
+from .strengths import Strengths
 from . import chain, contact, export, integrators, metrics, paper2016, plot, scenes
+from . import stress, stress_plot
 from .chain import ChainModel
 from .results import Result, load
 from .scene import Model, Scene
@@ -20,5 +24,6 @@ from .tradeoff import tradeoff
 
 __all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model",
            "ChainModel", "Result", "load", "save_scene", "load_scene", "chain", "contact", "export",
-           "integrators", "metrics", "paper2016", "plot", "scenes", "tradeoff"]
+           "integrators", "metrics", "paper2016", "plot", "scenes", "tradeoff", "Strengths", "stress",
+           "stress_plot"]
 __version__ = "0.1.0"
