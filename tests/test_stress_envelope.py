@@ -199,6 +199,10 @@ def test_bad_input_is_named(run):
         stress.ply_stresses(shell, U[0], strain="almansi")
     with pytest.raises(TypeError, match="shell must be a deployfx.ShellModel"):
         stress.ply_stresses("plate", U[0])
+    assert [stress.strain_measure(f) for f in ("linear", "nonlinear", "reduced-linear", "reduced-nonlinear")] \
+        == ["linear", "green", "linear", "green"]
+    with pytest.raises(ValueError, match="fidelity = 'rigid' has no ply stresses"):
+        stress.strain_measure("rigid")
     other = dfx.Laminate.from_angles(PLY, 0.5e-3, [90, 0, 0, 90])  # same A, different D
     with pytest.raises(ValueError, match="laminate is not the shell model's section: its D"):
         dfx._core.PlyRecovery(shell._impl, other._impl, False)

@@ -33,7 +33,7 @@ from .strengths import Strengths
 
 __all__ = ["COMPONENTS", "STRAIN_COMPONENTS", "CRITERIA", "PlyStresses", "StressEnvelope",
            "ply_stresses", "failure_index", "margin_of_safety", "envelope", "fields_at",
-           "cell_data", "shear_distribution"]
+           "cell_data", "shear_distribution", "strain_measure"]
 
 #: Stress components on the last axis of :attr:`PlyStresses.stress` (Pa, ply material axes).
 COMPONENTS = ("sigma_1", "sigma_2", "tau_12", "tau_13", "tau_23")
@@ -331,6 +331,18 @@ def shear_distribution(laminate: Laminate, z: object) -> np.ndarray:
         raise TypeError(f"laminate must be a deployfx.Laminate, got {type(laminate).__name__}")
     z = _float_array("z", np.atleast_1d(z), (None,))
     return _core.equilibrium_shear(laminate._impl, z.tolist())
+
+
+def strain_measure(fidelity: str) -> str:
+    """The strain a fidelity's internal force uses: "green" for "nonlinear" and
+    "reduced-nonlinear" (You et al. 2016 Eq. 14), "linear" for "linear" and "reduced-linear".
+    A rigid appendage has no stresses (ValueError)."""
+    measures = {"nonlinear": "green", "reduced-nonlinear": "green", "linear": "linear",
+                "reduced-linear": "linear"}
+    if fidelity not in measures:
+        raise ValueError(f"fidelity = {fidelity!r} has no ply stresses: must be one of "
+                         f"{', '.join(measures)}")
+    return measures[fidelity]
 
 
 # -- helpers ------------------------------------------------------------------------------------
