@@ -44,7 +44,8 @@ def min_time(f, repeat: int) -> float:
 
 
 def panel(nx: int, ny: int) -> dfx.Plate:
-    ply = dfx.Orthotropic(E1=177e9, E2=10.8e9, G12=7.6e9, G13=7.6e9, G23=8.504e9, nu12=0.27, rho=1600)
+    ply = dfx.Orthotropic(E1=177e9, E2=10.8e9, G12=7.6e9, G13=7.6e9, G23=8.504e9, nu12=0.27,
+                          rho=1600)
     return dfx.Plate(2.0, 1.3, dfx.Laminate.from_angles(ply, 0.5e-3, [0, 90, 90, 0]), nx, ny)
 
 
@@ -69,9 +70,12 @@ def timing_rows(samples: int, repeat: int) -> None:
         for where in ("centroid", "gauss"):
             for strain in ("linear", "green"):
                 for criteria in (["tsai_wu"], list(stress.CRITERIA)):
-                    dt = min_time(lambda: stress.envelope(shell, PLACEHOLDER, t, U, criteria=criteria,
-                                                          where=where, strain=strain), repeat) / samples
-                    print(f"{nx:>3}x{ny:<2} {where:>9} {strain:>7} {len(criteria):>8} {dt * 1e6:>10.2f} "
+                    def call():
+                        stress.envelope(shell, PLACEHOLDER, t, U, criteria=criteria, where=where,
+                                        strain=strain)
+                    dt = min_time(call, repeat) / samples
+                    print(f"{nx:>3}x{ny:<2} {where:>9} {strain:>7} {len(criteria):>8} "
+                          f"{dt * 1e6:>10.2f} "
                           f"{dt / t_force:>16.3f} {dt / t_ku:>8.1f}")
 
 
@@ -94,7 +98,8 @@ def run_row() -> None:
     env = stress.envelope(model.shell, PLACEHOLDER, r.t, U, strain="green", where="gauss")
     t_env = time.perf_counter() - t0
     print(f"\npaper scene, nonlinear, 6 x 4, 5 s ({len(r.t)} samples): run {t_run:.2f} s, "
-          f"envelope (4 criteria, Gauss points, Green) {t_env * 1e3:.1f} ms = {t_env / t_run:.2%} of the run")
+          f"envelope (4 criteria, Gauss points, Green) {t_env * 1e3:.1f} ms = "
+          f"{t_env / t_run:.2%} of the run")
     peaks = np.zeros(5)
     where_ = [None] * 5
     for k, u in enumerate(U):
@@ -103,13 +108,15 @@ def run_row() -> None:
         for c in range(5):
             if a[c] > peaks[c]:
                 peaks[c] = a[c]
-                e, p, ply, st, _ = np.unravel_index(np.argmax(np.abs(s[..., c])), s.shape[:4] + (1,))
+                e, _, ply, st = np.unravel_index(np.argmax(np.abs(s[..., c])), s.shape[:4])
                 where_[c] = (r.t[k], e, ply, st)
     for c, name in enumerate(stress.COMPONENTS):
         t, e, ply, st = where_[c]
-        print(f"  peak |{name}| = {peaks[c] / 1e6:8.2f} MPa at t = {t:.3f} s, element {e}, ply {ply}, "
+        print(f"  peak |{name}| = {peaks[c] / 1e6:8.2f} MPa at t = {t:.3f} s, element {e}, "
+              f"ply {ply}, "
               f"station {('bottom', 'middle', 'top')[st]}")
-    print(f"  (placeholder strengths: critical element {env.critical_element}, ply {env.critical_ply}, "
+    print(f"  (placeholder strengths: critical element {env.critical_element}, "
+          f"ply {env.critical_ply}, "
           f"t = {env.critical_time_s:.3f} s)")
 
 

@@ -53,7 +53,7 @@ def Q_bar(Q, theta_deg):
 
 
 def ply_stress(Q, theta_deg, eps0, kappa, z):
-    """Ply-axis (sigma_1, sigma_2, tau_12) at height z for mid-plane strain eps0 and curvature kappa."""
+    """Ply-axis (sigma_1, sigma_2, tau_12) at z for mid-plane strain eps0 and curvature kappa."""
     return Q @ strain_to_ply(np.asarray(eps0) + z * np.asarray(kappa), theta_deg)
 
 
@@ -82,8 +82,8 @@ def equilibrium_shear_numeric(Q, angles_deg, t, z_out, per_ply=4000):
     for k, a in enumerate(angles_deg):
         z = np.linspace(-h / 2 + k * t, -h / 2 + (k + 1) * t, per_ply + 1)
         Qb = Q_bar(Q, a)
-        sx = (Qb @ (gx[:3, None] + z[None, :] * gx[3:, None]))  # (3, m): stress gradients ,x per Q_x
-        sy = (Qb @ (gy[:3, None] + z[None, :] * gy[3:, None]))
+        sx = Qb @ (gx[:3, None] + z[None, :] * gx[3:, None])  # (3, m): stress gradients ,x / Q_x
+        sy = Qb @ (gy[:3, None] + z[None, :] * gy[3:, None])
         rate = np.stack([np.stack([-sx[0], -sy[2]]), np.stack([-sx[2], -sy[1]])])  # (2, 2, m)
         zs.append(z)
         dsig.append(rate)

@@ -92,13 +92,15 @@ def test_hashin_fibre_modes():
     s = (900 * MPa, 40 * MPa, 20 * MPa, 10 * MPa, 30 * MPa)
     assert fi(s, criterion="hashin_fibre") == pytest.approx(
         np.sqrt((900 / 1500) ** 2 + (20**2 + 10**2) / 70**2), rel=1e-12)
-    assert fi((-600 * MPa, 0, 50 * MPa, 0, 0), criterion="hashin_fibre") == pytest.approx(0.5, rel=1e-14)
+    assert fi((-600 * MPa, 0, 50 * MPa, 0, 0), criterion="hashin_fibre") == \
+        pytest.approx(0.5, rel=1e-14)
 
 
 def test_hashin_matrix_modes():
     Yt, Yc, S12, S23 = 50 * MPa, 200 * MPa, 70 * MPa, 60 * MPa
     # Tension: (s2/Yt)^2 + t23^2/S23^2 + (t12^2 + t13^2)/S12^2 = 1.
-    assert fi((0, 0.6 * Yt, 0, 0, 0.8 * S23), criterion="hashin_matrix") == pytest.approx(1.0, rel=1e-12)
+    assert fi((0, 0.6 * Yt, 0, 0, 0.8 * S23), criterion="hashin_matrix") == \
+        pytest.approx(1.0, rel=1e-12)
     s = (300 * MPa, 30 * MPa, 20 * MPa, 15 * MPa, 25 * MPa)
     assert fi(s, criterion="hashin_matrix") == pytest.approx(
         np.sqrt((30 / 50) ** 2 + (25 / 60) ** 2 + (20**2 + 15**2) / 70**2), rel=1e-12)
@@ -138,14 +140,16 @@ def test_every_index_is_the_inverse_strength_ratio():
 
 
 def test_margin_of_safety():
-    np.testing.assert_allclose(stress.margin_of_safety([0.5, 1.0, 2.0]), [1.0, 0.0, -0.5], rtol=1e-15)
+    np.testing.assert_allclose(stress.margin_of_safety([0.5, 1.0, 2.0]), [1.0, 0.0, -0.5],
+                               rtol=1e-15)
     assert stress.margin_of_safety(0.0) == np.inf
     with pytest.raises(ValueError, match="index"):
         stress.margin_of_safety([-0.1])
 
 
 def test_strengths_are_checked():
-    with pytest.raises(ValueError, match=r"Strengths\.Xc = -1200000000 is out of range: must be > 0"):
+    with pytest.raises(ValueError,
+                       match=r"Strengths\.Xc = -1200000000 is out of range: must be > 0"):
         dfx.Strengths(Xt=1500 * MPa, Xc=-1200 * MPa, Yt=50 * MPa, Yc=200 * MPa, S12=70 * MPa)
     with pytest.raises(ValueError, match=r"Strengths\.S23"):
         dfx.Strengths(Xt=1.0, Xc=1.0, Yt=1.0, Yc=1.0, S12=1.0, S23=0.0)

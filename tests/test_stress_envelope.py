@@ -89,7 +89,8 @@ def test_envelope_finds_the_planted_maximum(run, criterion):
     # Every other element peaks with the background, at t = 0.5 s, at its hand value.
     background = hand_index(criterion, np.array([KAPPA0, 0.0, 0.0]))
     others = [e for e in range(NX * NY) if e != element]
-    np.testing.assert_allclose(env.index[0, others], np.tile(background, (len(others), 1)), rtol=1e-9)
+    np.testing.assert_allclose(env.index[0, others], np.tile(background, (len(others), 1)),
+                               rtol=1e-9)
     assert np.all(env.sample[0, others] == K_PEAK)
     np.testing.assert_allclose(env.time_s[0, others], 0.5)
     assert env.summary() == {"min_failure_margin": env.min_failure_margin,
@@ -108,15 +109,16 @@ def test_envelope_equals_a_brute_force_pass_over_the_samples(run, where, strain)
     env = stress.envelope(plate, ST, t, U, criteria=["max_stress", "tsai_wu", "hashin_fibre"],
                           where=where, strain=strain)
     assert env.criteria == criteria
-    per_sample = np.array([[stress.failure_index(stress.ply_stresses(plate, u, where=where, strain=strain),
-                                                 ST, c).max(axis=(1, 3)) for c in criteria] for u in U])
+    fields = [stress.ply_stresses(plate, u, where=where, strain=strain) for u in U]
+    per_sample = np.array([[stress.failure_index(f, ST, c).max(axis=(1, 3)) for c in criteria]
+                           for f in fields])
     np.testing.assert_allclose(env.index, per_sample.max(axis=0), rtol=1e-12)
     np.testing.assert_array_equal(env.sample, per_sample.argmax(axis=0))
     np.testing.assert_allclose(env.peak_index, per_sample.max(axis=(2, 3)), rtol=1e-12)
     c = criteria.index(env.critical_criterion)
-    np.testing.assert_allclose(env.critical_history, per_sample[:, c, env.critical_element, env.critical_ply],
-                               rtol=1e-12)
-    np.testing.assert_allclose(env.critical_field, per_sample[env.critical_sample, c, :, env.critical_ply],
+    e, k = env.critical_element, env.critical_ply
+    np.testing.assert_allclose(env.critical_history, per_sample[:, c, e, k], rtol=1e-12)
+    np.testing.assert_allclose(env.critical_field, per_sample[env.critical_sample, c, :, k],
                                rtol=1e-12)
     assert env.where == where and env.strain_measure == strain
 
@@ -124,7 +126,8 @@ def test_envelope_equals_a_brute_force_pass_over_the_samples(run, where, strain)
 def test_default_criteria_follow_the_strengths(run):
     plate, t, U, _ = run
     assert stress.envelope(plate, ST, t, U).criteria == ("max_stress", "tsai_wu", "hashin_fibre")
-    full = dfx.Strengths(Xt=1500 * MPa, Xc=1200 * MPa, Yt=50 * MPa, Yc=200 * MPa, S12=70 * MPa, S23=60 * MPa)
+    full = dfx.Strengths(Xt=1500 * MPa, Xc=1200 * MPa, Yt=50 * MPa, Yc=200 * MPa, S12=70 * MPa,
+                         S23=60 * MPa)
     env = stress.envelope(plate, [full] * 4, t, U, criteria=["hashin"])
     assert env.criteria == ("hashin_fibre", "hashin_matrix")
     assert stress.envelope(plate, full, t, U).criteria == stress.CRITERIA
@@ -199,8 +202,8 @@ def test_bad_input_is_named(run):
         stress.ply_stresses(shell, U[0], strain="almansi")
     with pytest.raises(TypeError, match="shell must be a deployfx.ShellModel"):
         stress.ply_stresses("plate", U[0])
-    assert [stress.strain_measure(f) for f in ("linear", "nonlinear", "reduced-linear", "reduced-nonlinear")] \
-        == ["linear", "green", "linear", "green"]
+    fidelities = ("linear", "nonlinear", "reduced-linear", "reduced-nonlinear")
+    assert [stress.strain_measure(f) for f in fidelities] == ["linear", "green", "linear", "green"]
     with pytest.raises(ValueError, match="fidelity = 'rigid' has no ply stresses"):
         stress.strain_measure("rigid")
     other = dfx.Laminate.from_angles(PLY, 0.5e-3, [90, 0, 0, 90])  # same A, different D

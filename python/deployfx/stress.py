@@ -154,7 +154,8 @@ class StressEnvelope:
 
     def cell_data(self) -> dict:
         """The envelope as meshio cell data for the shell's quads: ``ply<k>_<criterion>_max``
-        (the maximum index over the run) for each ply and criterion, ``{name: [array (elements,)]}``."""
+        (the maximum index over the run) for each ply and criterion,
+        ``{name: [array (elements,)]}``."""
         return {f"ply{k}_{c}_max": [np.array(self.index[i, :, k])]
                 for k in range(self.index.shape[2]) for i, c in enumerate(self.criteria)}
 
@@ -191,14 +192,16 @@ def failure_index(stresses: Union[PlyStresses, np.ndarray], strengths: Strengths
     if isinstance(strengths, Strengths):
         per_ply = None
     elif s.ndim < 3:
-        raise ValueError(f"strengths per ply need stresses of shape (..., plies, 3, 5), got {s.shape}")
+        raise ValueError(f"strengths per ply need stresses of shape (..., plies, 3, 5), "
+                         f"got {s.shape}")
     else:
         per_ply = _strengths_list(strengths, s.shape[-3])
     out = np.zeros(s.shape[:-1])
     for name in names:
         crit = getattr(_core.FailureCriterion, name)
         if per_ply is None:
-            fi = _core.failure_indices(s.reshape(-1, 5), strengths._impl, crit).reshape(s.shape[:-1])
+            fi = _core.failure_indices(s.reshape(-1, 5), strengths._impl, crit)
+            fi = fi.reshape(s.shape[:-1])
         else:
             fi = np.empty(s.shape[:-1])
             for k, st in enumerate(per_ply):
@@ -351,7 +354,8 @@ def _shell(shell: object) -> ShellModel:
     if isinstance(shell, Plate):
         return shell.model
     if not isinstance(shell, ShellModel):
-        raise TypeError(f"shell must be a deployfx.ShellModel (or a Plate), got {type(shell).__name__}")
+        raise TypeError(f"shell must be a deployfx.ShellModel (or a Plate), "
+                        f"got {type(shell).__name__}")
     return shell
 
 
@@ -386,7 +390,8 @@ def _strengths_list(strengths: object, plies: int) -> list:
         if not isinstance(s, Strengths):
             raise TypeError(f"strengths[{i}] must be a deployfx.Strengths, got {type(s).__name__}")
     if len(strengths) != plies:
-        raise ValueError(f"strengths must give one Strengths per ply ({plies}), got {len(strengths)}")
+        raise ValueError(f"strengths must give one Strengths per ply ({plies}), "
+                         f"got {len(strengths)}")
     return list(strengths)
 
 

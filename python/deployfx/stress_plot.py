@@ -58,7 +58,8 @@ def critical_history(env: StressEnvelope, ax: Optional[Axes] = None) -> Figure:
     ax.plot(env.t, env.critical_history, color="C0", linewidth=1.2,
             label=f"element {env.critical_element}, ply {env.critical_ply}")
     for i, t in enumerate(env.impact_times):
-        ax.axvline(t, color="C3", linestyle=":", linewidth=0.9, label="lock impact" if i == 0 else None)
+        ax.axvline(t, color="C3", linestyle=":", linewidth=0.9,
+                   label="lock impact" if i == 0 else None)
     if env.max_failure_index >= 0.5:
         ax.axhline(1.0, color="k", linestyle="--", linewidth=0.8, label="failure (FI = 1)")
     ax.set_xlabel("time (s)")
