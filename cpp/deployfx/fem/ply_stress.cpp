@@ -10,9 +10,10 @@
 namespace deployfx::fem {
 namespace {
 
-// The section constants must be the laminate's: relative agreement to 1e-10.
-void require_same(const char* name, const Eigen::MatrixXd& element, const Eigen::MatrixXd& laminate) {
-  const double scale = std::max(element.norm(), laminate.norm());
+// The section constants must be the laminate's, to 1e-10 of a scale that suits each block: |A|,
+// |D|, sqrt(|A| |D|) for B (a symmetric lay-up's B is round-off), |As|.
+void require_same(const char* name, const Eigen::MatrixXd& element, const Eigen::MatrixXd& laminate,
+                  double scale) {
   if ((element - laminate).norm() > 1e-10 * scale)
     throw std::invalid_argument(std::string("laminate is not the shell model's section: its ") + name +
                                 " differs from the elements'");
@@ -23,10 +24,11 @@ void require_same(const char* name, const Eigen::MatrixXd& element, const Eigen:
 PlyRecovery make_ply_recovery(const ShellModel& model, const material::Laminate& laminate,
                               Sampling sampling) {
   const ShellElement& first = model.elements().front();
-  require_same("A", first.A(), laminate.A());
-  require_same("B", first.B(), laminate.B());
-  require_same("D", first.D(), laminate.D());
-  require_same("As", first.As(), laminate.As());
+  const double a = laminate.A().norm(), d = laminate.D().norm();
+  require_same("A", first.A(), laminate.A(), a);
+  require_same("B", first.B(), laminate.B(), std::sqrt(a * d));
+  require_same("D", first.D(), laminate.D(), d);
+  require_same("As", first.As(), laminate.As(), laminate.As().norm());
 
   PlyRecovery r;
   r.sampling = sampling;
