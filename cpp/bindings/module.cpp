@@ -13,6 +13,7 @@ void define_body(py::module_& m);
 void define_integrate(py::module_& m);
 void define_multibody(py::module_& m);
 void define_contact(py::module_& m);
+void define_stress(py::module_& m);
 
 namespace {
 
@@ -56,4 +57,5 @@ PYBIND11_MODULE(_core, m) {
   define_integrate(m);
   define_multibody(m);
   define_contact(m);
+  define_stress(m);
 }

@@ -8,11 +8,14 @@
   and the spin-up beam.
 - Results: :class:`Result` (series, units, ``summary()``, ``save``/:func:`load`), :mod:`plot`.
 - Scene files: :func:`save_scene` / :func:`load_scene` (JSON or TOML, :mod:`deployfx.scene_file`).
+- Ply stresses: :class:`Strengths`, :mod:`stress` (ply stresses, failure indices, a run's
+  envelope), :mod:`stress_plot`.
 SI units throughout.
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import Plate, ShellModel
-from . import contact, export, integrators, metrics, paper2016, plot, scenes, specs
+from .strengths import Strengths
+from . import contact, export, integrators, metrics, paper2016, plot, scenes, specs, stress, stress_plot
 from .model import Model
 from .results import Result, load
 from .scene import Scene
@@ -21,6 +24,6 @@ from .scene_file import load_scene, save_scene
 from .tradeoff import tradeoff
 
 __all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model", "Fidelity",
-           "Result", "load", "save_scene", "load_scene", "contact", "export", "integrators", "metrics", "paper2016",
-           "plot", "scenes", "specs", "tradeoff"]
+           "Strengths", "Result", "load", "save_scene", "load_scene", "contact", "export", "integrators", "metrics",
+           "paper2016", "plot", "scenes", "specs", "stress", "stress_plot", "tradeoff"]
 __version__ = "0.1.0"

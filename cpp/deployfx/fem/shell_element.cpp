@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include <Eigen/Geometry>
 
@@ -50,6 +51,37 @@ RowOp covariant_shear(double xi, double eta, bool along_xi, const Eigen::Matrix<
   return e;
 }
 
+// Bm, Bb, G (Eq. 20) and the MITC4 assumed shear Bs at (xi, eta), on E's dofs, from the shape
+// functions there, the inverse Jacobian and the covariant shear at the tying points B, D, A, C.
+void fill_strain_operators(const Shape& s, const Eigen::Matrix2d& Jinv, double xi, double eta,
+                           const std::array<RowOp, 4>& tying, ShellElement::StrainOperators* op) {
+  op->Bm.setZero();
+  op->Bb.setZero();
+  op->G.setZero();
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector2d dN = Jinv * Eigen::Vector2d(s.dN_dxi(i), s.dN_deta(i));  // (N,x N,y)
+    const int o = 6 * i;
+    op->Bm(0, o + U) = dN(0);
+    op->Bm(1, o + V) = dN(1);
+    op->Bm(2, o + U) = dN(1);
+    op->Bm(2, o + V) = dN(0);
+    // kappa_x = beta_x,x; kappa_y = beta_y,y; kappa_xy = beta_x,y + beta_y,x
+    op->Bb(0, o + TY) = dN(0);
+    op->Bb(1, o + TX) = -dN(1);
+    op->Bb(2, o + TY) = dN(1);
+    op->Bb(2, o + TX) = -dN(0);
+    for (int a = 0; a < 3; ++a) {
+      op->G(a, o + a) = dN(0);
+      op->G(3 + a, o + a) = dN(1);
+    }
+  }
+  // Assumed covariant shear (Bathe & Dvorkin 1985, Eq. 11), then Cartesian: e = J gamma.
+  Eigen::Matrix<double, 2, kElementDofs> e;
+  e.row(0) = 0.5 * (1 - eta) * tying[0] + 0.5 * (1 + eta) * tying[1];
+  e.row(1) = 0.5 * (1 - xi) * tying[2] + 0.5 * (1 + xi) * tying[3];
+  op->Bs = Jinv * e;
+}
+
 // N_s of Eq. 21: [N_x I3, N_xy I3; N_xy I3, N_y I3] acting on Psi = (u,x v,x w,x u,y v,y w,y).
 Eigen::Matrix<double, 6, 6> resultant_matrix(const Eigen::Vector3d& N) {
   Eigen::Matrix<double, 6, 6> Ns = Eigen::Matrix<double, 6, 6>::Zero();
@@ -89,23 +121,23 @@ ShellElement::ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::
   R_WE_.col(2) = n;
   world_axes_ = R_WE_ == Eigen::Matrix3d::Identity();
 
-  Eigen::Matrix<double, 4, 2> xy;
+  X_W_ = X_W;
   for (int i = 0; i < 4; ++i) {
     const Eigen::Vector3d p = R_WE_.transpose() * (X_W.row(i).transpose() - c);
-    xy.row(i) << p(0), p(1);
+    xy_.row(i) << p(0), p(1);
   }
   drill_modulus_ = kDrillingPenalty * A_(2, 2);
 
   // MITC4 tying points: e_xi,z at B(0,-1) and D(0,1); e_eta,z at A(-1,0) and C(1,0).
-  const RowOp eB = covariant_shear(0, -1, true, xy), eD = covariant_shear(0, 1, true, xy);
-  const RowOp eA = covariant_shear(-1, 0, false, xy), eC = covariant_shear(1, 0, false, xy);
+  tying_ = {covariant_shear(0, -1, true, xy_), covariant_shear(0, 1, true, xy_),
+            covariant_shear(-1, 0, false, xy_), covariant_shear(1, 0, false, xy_)};
 
   const double g = 1.0 / std::sqrt(3.0);
   const double gx[4] = {-g, g, g, -g}, gy[4] = {-g, -g, g, g};
   area_ = 0;
   for (int q = 0; q < 4; ++q) {
     const Shape s = shape(gx[q], gy[q]);
-    const Eigen::Matrix2d J = jacobian(s, xy);
+    const Eigen::Matrix2d J = jacobian(s, xy_);
     const double detJ = J.determinant();
     if (!(detJ > 0))
       throw std::invalid_argument(
@@ -115,32 +147,22 @@ ShellElement::ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::
     p.weight = detJ;  // Gauss weights are 1 for the 2x2 rule
     p.X_W = X_W.transpose() * s.N;  // bilinear geometry
     area_ += detJ;
-    p.Bm.setZero();
-    p.Bb.setZero();
+    StrainOperators op;
+    fill_strain_operators(s, Jinv, gx[q], gy[q], tying_, &op);
+    p.Bm = op.Bm;
+    p.Bb = op.Bb;
+    p.Bs = op.Bs;
+    p.G = op.G;
     p.Bd.setZero();
-    p.G.setZero();
     p.Nu.setZero();
     p.Nr.setZero();
     for (int i = 0; i < 4; ++i) {
       const Eigen::Vector2d dN = Jinv * Eigen::Vector2d(s.dN_dxi(i), s.dN_deta(i));  // (N,x N,y)
       const int o = 6 * i;
-      p.Bm(0, o + U) = dN(0);
-      p.Bm(1, o + V) = dN(1);
-      p.Bm(2, o + U) = dN(1);
-      p.Bm(2, o + V) = dN(0);
-      // kappa_x = beta_x,x; kappa_y = beta_y,y; kappa_xy = beta_x,y + beta_y,x
-      p.Bb(0, o + TY) = dN(0);
-      p.Bb(1, o + TX) = -dN(1);
-      p.Bb(2, o + TY) = dN(1);
-      p.Bb(2, o + TX) = -dN(0);
       p.Bd(o + TZ) = s.N(i);
       p.Bd(o + V) = -0.5 * dN(0);
       p.Bd(o + U) = 0.5 * dN(1);
-      for (int a = 0; a < 3; ++a) {
-        p.G(a, o + a) = dN(0);
-        p.G(3 + a, o + a) = dN(1);
-        p.Nu(a, o + a) = s.N(i);
-      }
+      for (int a = 0; a < 3; ++a) p.Nu(a, o + a) = s.N(i);
       p.Nr(0, o + TY) = s.N(i);
       p.Nr(1, o + TX) = -s.N(i);
       p.Nr(2, o + TZ) = s.N(i);
@@ -148,14 +170,23 @@ ShellElement::ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::
       p.dNx(i) = dN(0);
       p.dNy(i) = dN(1);
     }
-    // Assumed covariant shear (Bathe & Dvorkin 1985, Eq. 11), then Cartesian: e = J gamma.
-    Eigen::Matrix<double, 2, kElementDofs> e;
-    e.row(0) = 0.5 * (1 - gy[q]) * eB + 0.5 * (1 + gy[q]) * eD;
-    e.row(1) = 0.5 * (1 - gx[q]) * eA + 0.5 * (1 + gx[q]) * eC;
-    p.Bs = Jinv * e;
     for (int i = 0; i < 4; ++i)
       for (int k = 0; k < 3; ++k) p.Bs_wr.col(4 * k + i) = p.Bs.col(6 * i + W + k);  // W, TX, TY
   }
+}
+
+ShellElement::StrainOperators ShellElement::strain_operators(double xi, double eta) const {
+  if (!(std::abs(xi) <= 1 && std::abs(eta) <= 1))
+    throw std::invalid_argument("ShellElement.strain_operators: (xi, eta) = (" + std::to_string(xi) +
+                                ", " + std::to_string(eta) + ") is out of range: must be in [-1, 1]^2");
+  const Shape s = shape(xi, eta);
+  StrainOperators op;
+  fill_strain_operators(s, jacobian(s, xy_).inverse(), xi, eta, tying_, &op);
+  return op;
+}
+
+Eigen::Vector3d ShellElement::position(double xi, double eta) const {
+  return X_W_.transpose() * shape(xi, eta).N;  // bilinear geometry, as the Gauss points'
 }
 
 ShellElement::Kinematics ShellElement::kinematics(int q) const {

@@ -85,6 +85,26 @@ class ShellElement {
   };
   GreenOperators green_operators(int gauss_point) const;
 
+  /// The generalized-strain operators at natural coordinates (xi, eta) in [-1, 1]^2, on E's dofs
+  /// (d_E = blockdiag(R_WE^T) d_W), exactly those the stiffness integrates (it uses them at the
+  /// 2x2 Gauss points xi, eta = +-1/sqrt(3)): membrane strain Bm, curvature Bb, the MITC4 assumed
+  /// transverse shear Bs (Bathe & Dvorkin 1985, Eq. 11, from the tying points) and the gradients
+  /// G of Eq. 20 for the Green strain of Eq. 14 (fem/ply_stress recovers stresses from them).
+  struct StrainOperators {
+    Eigen::Matrix<double, 3, kElementDofs> Bm;  // (eps_x, eps_y, gamma_xy), linear part
+    Eigen::Matrix<double, 3, kElementDofs> Bb;  // (kappa_x, kappa_y, kappa_xy), 1/m
+    Eigen::Matrix<double, 2, kElementDofs> Bs;  // (gamma_xz, gamma_yz)
+    Eigen::Matrix<double, 6, kElementDofs> G;   // Psi = (u,x v,x w,x u,y v,y w,y)
+  };
+  StrainOperators strain_operators(double xi, double eta) const;
+  /// The bilinear map of the natural coordinates to the mid-surface, world axes (m).
+  Eigen::Vector3d position(double xi, double eta) const;
+  /// The section constants the element was built with (laminate A, B, D, As).
+  const Eigen::Matrix3d& A() const { return A_; }
+  const Eigen::Matrix3d& B() const { return B_; }
+  const Eigen::Matrix3d& D() const { return D_; }
+  const Eigen::Matrix2d& As() const { return As_; }
+
  private:
   struct GaussPoint {
     Eigen::Matrix<double, 3, kElementDofs> Bm;  // membrane strain (eps_x, eps_y, gamma_xy)
@@ -115,6 +135,9 @@ class ShellElement {
   bool world_axes_ = false;  // R_WE_ is exactly the identity
   double area_ = 0;
   double drill_modulus_ = 0;  // N/m
+  Eigen::Matrix<double, 4, 2> xy_;  // node coordinates in E (origin at the node centroid), m
+  Eigen::Matrix<double, 4, 3> X_W_;  // node positions, world, m
+  std::array<RowOp, 4> tying_;      // MITC4 covariant shear at the tying points B, D, A, C
   std::array<GaussPoint, 4> gp_;
 };
 

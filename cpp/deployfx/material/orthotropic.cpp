@@ -52,14 +52,19 @@ Eigen::Matrix3d Orthotropic::Q() const {
   return q;
 }
 
-Eigen::Matrix3d Orthotropic::Q_bar(double theta) const {
-  // Engineering-strain transformation: eps_material = T_eps eps_laminate; energy invariance gives
-  // Q_bar = T_eps^T Q T_eps (equivalent to Reddy Eq. 2.3.17).
+Eigen::Matrix3d Orthotropic::strain_rotation(double theta) {
   const double c = std::cos(theta), s = std::sin(theta);
   Eigen::Matrix3d T;
   T << c * c, s * s, c * s,  //
       s * s, c * c, -c * s,  //
       -2 * c * s, 2 * c * s, c * c - s * s;
+  return T;
+}
+
+Eigen::Matrix3d Orthotropic::Q_bar(double theta) const {
+  // Engineering-strain transformation: eps_material = T_eps eps_laminate; energy invariance gives
+  // Q_bar = T_eps^T Q T_eps (equivalent to Reddy Eq. 2.3.17).
+  const Eigen::Matrix3d T = strain_rotation(theta);
   return T.transpose() * Q() * T;
 }
 

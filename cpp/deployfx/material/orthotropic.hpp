@@ -25,6 +25,10 @@ class Orthotropic {
 
   /// Plane-stress reduced stiffness in material axes, (sigma1, sigma2, tau12) = Q (eps1, eps2, gamma12).
   Eigen::Matrix3d Q() const;
+  /// Engineering-strain rotation (eps_1, eps_2, gamma_12) = T (eps_x, eps_y, gamma_xy) into the
+  /// axes of a ply whose fibre lies at theta (rad) from the laminate x axis (Jones 1999,
+  /// Sec. 2.6; Reddy 2004, Sec. 2.3).
+  static Eigen::Matrix3d strain_rotation(double theta);
   /// In-plane stiffness of a ply rotated by theta (rad, fibre axis from the laminate x axis,
   /// counter-clockwise): Q_bar = T^-1 Q T^-T (Reddy Eq. 2.3.17).
   Eigen::Matrix3d Q_bar(double theta) const;
