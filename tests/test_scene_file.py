@@ -813,3 +813,17 @@ def test_bad_paths_and_text(paper, tmp_path):
         scene_file.scene_to_dict(Scene().set_base(1.0, 1.0))
     with pytest.raises(ValueError, match=r"^the scene has no base: call set_base\(\) first$"):
         scene_file.scene_to_dict(Scene())
+
+
+@pytest.mark.parametrize("suffix", [".json", ".toml"])
+def test_ply_strengths_round_trip(tmp_path, suffix):
+    """Reference: the scene as built. A panel's strength allowables (one for all plies, and one
+    per ply with the optional S13, S23) are written by name and read back equal."""
+    one = dfx.Strengths(Xt=2.0e9, Xc=1.5e9, Yt=50e6, Yc=200e6, S12=100e6)
+    per_ply = [dfx.Strengths(Xt=2.0e9 + i, Xc=1.5e9, Yt=50e6, Yc=200e6, S12=100e6, S13=90e6, S23=40e6,
+                             F12_star=-0.3) for i in range(4)]
+    for strengths in (one, per_ply):
+        sc = dfx.scenes.paper2016(2, "reduced-nonlinear", nx=2, ny=1, strengths=strengths)
+        loaded = dfx.load_scene(dfx.save_scene(sc, tmp_path / f"s{suffix}"))
+        expected = (strengths,) if isinstance(strengths, dfx.Strengths) else tuple(strengths)
+        assert loaded.links[0].appendage.strengths == expected

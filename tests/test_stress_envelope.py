@@ -209,3 +209,26 @@ def test_bad_input_is_named(run):
     other = dfx.Laminate.from_angles(PLY, 0.5e-3, [90, 0, 0, 90])  # same A, different D
     with pytest.raises(ValueError, match="laminate is not the shell model's section: its D"):
         dfx._core.PlyRecovery(shell._impl, other._impl, False)
+
+
+def test_a_runs_envelope_is_the_envelope_of_its_mesh_displacements():
+    """Reference: deployfx.stress.envelope on the run's mesh displacements, formed here from the
+    recorded Ritz coordinates and the panel's basis (d = Phi eta), with Green strain for the
+    reduced-nonlinear panel; the summary's margin is 1/FI - 1 of the largest index (the margin's
+    definition), its critical ply, element and time those of the envelope, exactly."""
+    st = dfx.Strengths(Xt=2.0e9, Xc=1.5e9, Yt=50e6, Yc=200e6, S12=100e6)
+    sc = dfx.scenes.paper2016(2, "reduced-nonlinear", nx=4, ny=2, strengths=st)
+    r = sc.simulate(2.6, 0.01, stresses=True)
+    model = sc.model
+    lay = model.layout(0)
+    eta = r.q[:, lay["iq_elastic"]:lay["iq_elastic"] + lay["num_elastic"]]
+    U = eta @ model.basis(0).T
+    env = dfx.stress.envelope(model.shells[0], st, r.t, U, strain="green")
+    s = r.summary(hinge=0)
+    assert s["min_failure_margin"] == pytest.approx(1 / env.max_failure_index - 1, rel=1e-12)
+    assert (s["critical_ply"], s["critical_element"], s["critical_time_s"]) == (
+        env.critical_ply, env.critical_element, env.critical_time_s)
+    np.testing.assert_allclose(r.max_failure_index[:, 0], env.peak_index.max(axis=1), rtol=1e-12)
+    assert s["first_lock_time_s"] < s["critical_time_s"]  # the panel is loaded hardest after the lock
+    with pytest.raises(ValueError, match="strengths"):
+        dfx.scenes.paper2016(2, "reduced-nonlinear", nx=4, ny=2).simulate(0.1, 0.01, stresses=True)

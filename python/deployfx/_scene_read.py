@@ -10,12 +10,14 @@ from typing import Any, Iterator, Mapping
 import numpy as np
 
 from ._scene_schema import (_APPENDAGE_FILE_KEYS, _APPENDAGE_OPTIONAL, _HINGE_FILE_KEYS, _HINGE_OPTIONAL,
+                            _STRENGTH_KEYS, _STRENGTH_OPTIONAL,
                             _ISOTROPIC, _LOCK_FILE_KEYS, _MATERIAL_UNITS, _OLD_APPENDAGE_OPTIONS, _ORTHOTROPIC,
                             _PART_FILE_KEYS, SCHEMA, VERSIONS_READ)
 from .contact import ContactLaw, Friction
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import ShellModel
 from .scene import Scene
+from .strengths import Strengths
 
 # ------------------------------------------------------------------------------------------------
 # dict -> Scene (with the file's structure checked; the builder checks the values)
@@ -176,6 +178,16 @@ def _read_appendage(scene: Scene, a: Any, where: str, k: int, version: int) -> N
     fixed = _array(a["fixed_dofs"], f"{where}.fixed_dofs", (None,), integer=True)
     damping = (_number(a["alpha_M_per_s"], f"{where}.alpha_M_per_s"),
                _number(a["beta_K_s"], f"{where}.beta_K_s"))
+    if "strengths" in a:
+        items = _list(a["strengths"], f"{where}.strengths", "one table for all plies, or one per ply")
+        strengths = []
+        for i, t in enumerate(items):
+            w = f"{where}.strengths[{i}]"
+            t = _table(t, w, _STRENGTH_KEYS, _STRENGTH_OPTIONAL)
+            with _at(w):
+                strengths.append(Strengths(
+                    **{key[:-3] if key.endswith("_Pa") else key: _number(t[key], f"{w}.{key}") for key in t}))
+        opts["strengths"] = strengths
     with _at(where):
         scene.set_appendage(shell, fixed, fidelity=a["fidelity"], damping=damping, hinge=k, **opts)
 

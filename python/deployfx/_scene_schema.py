@@ -19,7 +19,10 @@ _HINGE_FILE_KEYS = ("parent", "point_m", "axis", "R_PC0", "tau0_N_m", "k_theta_N
 _HINGE_OPTIONAL = ("stowed_angle_deg", "spin_up", "parts", "appendage", "lock")
 _PART_FILE_KEYS = ("mass_kg", "com_m", "inertia_kg_m2")
 _APPENDAGE_FILE_KEYS = ("fidelity", "fixed_dofs", "alpha_M_per_s", "beta_K_s", "modes", "shell")
-_APPENDAGE_OPTIONAL = ("derivative_modes",)
+_APPENDAGE_OPTIONAL = ("derivative_modes", "strengths")
+# A ply's strength allowables (deployfx.Strengths): required, and optional keys.
+_STRENGTH_KEYS = ("Xt_Pa", "Xc_Pa", "Yt_Pa", "Yc_Pa", "S12_Pa", "F12_star")
+_STRENGTH_OPTIONAL = ("S13_Pa", "S23_Pa")
 _LOCK_FILE_KEYS = ("theta_lock_rad", "pin_radius_m", "clearance_m", "law", "friction")
 # The builder options versions 1 and 2 wrote under "options" that version 3 names (appendage).
 _OLD_APPENDAGE_OPTIONS = ("modes", "derivative_modes")

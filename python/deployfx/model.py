@@ -247,7 +247,8 @@ class Model:
                  progress: Optional[bool] = None, q0=None, v0=None,
                  nodes: Union[None, str, Mapping[int, Sequence[int]]] = None,
                  series: Optional[Callable[["Model", dict], dict]] = None, units: Optional[dict] = None,
-                 metadata: Optional[dict] = None, stop: Optional[Callable[[], bool]] = None, data=None) -> Result:
+                 metadata: Optional[dict] = None, stop: Optional[Callable[[], bool]] = None, data=None,
+                 stresses: bool = False) -> Result:
         """Run to ``t_end`` (s) with output step ``dt`` (s), from rest at the stowed configuration
         unless ``q0``/``v0`` are given (see the module docstring for their layout).
 
@@ -264,12 +265,17 @@ class Model:
         or (n,), the raw ``q`` and ``v``), plus for ``nodes`` (``{hinge: [node, ...]}``, or
         ``"all"`` for every node of every panel) ``node_displacements_<k>`` ((n, nodes, 3), m, C_k
         axes). ``series(model, raw)`` (optional) adds a scene's own series (``units`` theirs) from
-        the engine's raw dict. Raises :class:`~deployfx.integrators.SimulationError` with
+        the engine's raw dict. ``stresses=True``: the ply failure envelope of every deforming
+        panel that has strengths (``Scene.set_appendage(..., strengths=...)``;
+        :meth:`stress_envelope`): series ``max_failure_index`` ((n, H), the panel's largest index
+        at each sample) and the summary's ``min_failure_margin``, ``critical_ply``,
+        ``critical_element``, ``critical_time_s`` per hinge (metadata ``hinges[k]["stress"]``). Raises :class:`~deployfx.integrators.SimulationError` with
         ``.result`` (the series up to the failure) if a step cannot be completed, or if an undriven
         run's total energy grew by more than ``ENERGY_GROWTH_LIMIT`` of its peak kinetic energy
         (numerical divergence: the message gives the time).
         """
         t_end, dt, tol, scheme = _run_arguments(t_end, dt, scheme, tolerance)
+        stressed = self._stressed_panels() if stresses else []
         q0 = self.initial_positions() if q0 is None else _state("q0", q0, self.num_positions)
         v0 = np.zeros(self.num_velocities) if v0 is None else _state("v0", v0, self.num_velocities)
         node_sets = self._node_sets(nodes)
@@ -285,11 +291,21 @@ class Model:
             extra = series(self, raw)
             out.update(extra)
             all_units.update(units or {})
+        if stresses:
+            peak = np.zeros((len(raw["t"]), self.num_hinges))
+            hinge_info = self._hinge_metadata()
+            for k in stressed:
+                env = self._envelope(raw["t"], raw["q"], k, raw["lock_force"][:, k])
+                peak[:, k] = env.peak_index.max(axis=1)
+                hinge_info[k]["stress"] = dict(env.summary(), criteria=list(env.criteria), where=env.where,
+                                               strain=env.strain_measure)
+            out["max_failure_index"] = peak
+            all_units["max_failure_index"] = "1"
         meta = {"deployfx_version": _version(),
                 "run_started_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
         meta.update(self.description)
         meta.update(metadata or {})
-        meta.update(base_free=self.base_free, hinges=self._hinge_metadata(),
+        meta.update(base_free=self.base_free, hinges=hinge_info if stresses else self._hinge_metadata(),
                     nodes={str(k): [int(i) for i in v] for k, v in node_sets.items()})
         if len(raw["t"]):  # the momentum the bodies carry: the scale of its conservation error
             scale = {"P_N_s": float(np.max(raw["momentum_scale_P"])),
@@ -297,6 +313,38 @@ class Model:
             if all(np.isfinite(v) for v in scale.values()):  # not when a divergent run overflowed it
                 meta["momentum_scale"] = scale
         return _run_result(raw, out, all_units, meta, scheme, dt, t_end, tolerance, wall, self.conservative)
+
+    def _stressed_panels(self) -> list:
+        """The hinges whose deforming panel has strengths; ValueError if there is none."""
+        out = [k for k, L in enumerate(self.links) if self.deforming[k] and L.appendage.strengths is not None]
+        if not out:
+            raise ValueError("stresses=True needs a deforming panel with strengths: Scene.set_appendage(..., "
+                             "strengths=deployfx.Strengths(...)) (deployfx ships no allowables)")
+        return out
+
+    def _envelope(self, t, q, k: int, lock_force, **options):
+        from . import metrics, stress
+
+        a = self.links[k].appendage
+        force = np.asarray(lock_force, dtype=float)
+        impacts = metrics.contact_intervals(t, force)[:, 0] if force.any() else None
+        strengths = a.strengths[0] if len(a.strengths) == 1 else list(a.strengths)
+        return stress.envelope(a.shell, strengths, t, self.mesh_displacements(q, k),
+                               strain=stress.strain_measure(a.fidelity.value), impact_times=impacts, **options)
+
+    def stress_envelope(self, result: Result, hinge: Optional[int] = None, **options):
+        """The ply failure envelope (:class:`deployfx.stress.StressEnvelope`) of hinge ``hinge``'s
+        panel over ``result`` (a run of this model): its mesh displacements from the recorded
+        ``q``, the panel's strengths, Green strain for the nonlinear fidelities, the impacts of
+        its hinge's lock marked. ``options``: ``criteria``, ``where`` of
+        :func:`deployfx.stress.envelope`."""
+        k = self._hinge(hinge, panel=True)
+        a = self.links[k].appendage
+        if not self.deforming[k] or a.strengths is None:
+            raise ValueError(f"hinge {k}'s panel needs to deform and have strengths (Scene.set_appendage(..., "
+                             f"fidelity=..., strengths=...)) for a ply envelope")
+        force = result["lock_force"][:, k] if "lock_force" in result else np.zeros(len(result.t))
+        return self._envelope(np.asarray(result.t), self._q(result["q"]), k, force, **options)
 
     def _node_sets(self, nodes) -> dict:
         if nodes is None:

@@ -14,9 +14,10 @@ name                           unit      shape       meaning
 ``lock_force``                 N         (n, H)      the lock's normal contact force (>= 0)
 ``lock_torque``                N m       (n, H)      the lock's torque on the hinge
 ``latched``                    1         (n, H)      1 once the lock has latched
-``hinge_force``                N         (n, H, 3)   the reaction the parent exerts on the hinge's
-                                                     subtree, body axes
-``hinge_moment``               N m       (n, H, 3)   its moment about the hinge point
+``hinge_force``                N         (n, H, 3)   the force the parent exerts on the hinge's
+                                                     subtree through the joint, body axes
+``hinge_moment``               N m       (n, H, 3)   its moment about the hinge point, across the
+                                                     axis (the axial torque: spring, lock)
 ``strain_energy``              J         (n, H)      the panel's (0: rigid or none)
 ``tip_displacement``           m         (n, H, 3)   the panel's tip node, body axes
 ``tip_deflection``             m         (n, H)      along the hinge rotation's direction there
@@ -69,7 +70,8 @@ PER_HINGE_SERIES = ("deployment_angle", "deployment_rate", "spring_torque", "loc
 _VECTOR_PER_HINGE_SERIES = ("hinge_force", "hinge_moment", "tip_displacement")
 #: Per-hinge metrics of :meth:`Result.summary` (lists, one value per hinge), in order.
 HINGE_KEYS = ("first_lock_time_s", "impacts", "peak_lock_force_N", "settling_time_s", "max_tip_deflection_m",
-              "peak_hinge_force_N", "peak_hinge_moment_Nm")
+              "peak_hinge_force_N", "peak_hinge_moment_Nm", "min_failure_margin", "critical_ply", "critical_element",
+              "critical_time_s")
 #: System metrics of :meth:`Result.summary`, in order.
 SYSTEM_KEYS = ("max_node_E_deflection_m", "body_attitude_change_deg", "momentum_drift", "steps", "wall_time_s")
 #: Every key :meth:`Result.summary` may give, in order.
@@ -277,6 +279,9 @@ class Result:
           from then on, for at least 1 s.
         - ``max_tip_deflection_m`` (m): max |``tip_deflection``| (hinges carrying a deforming panel).
         - ``peak_hinge_force_N``, ``peak_hinge_moment_Nm``: max |``hinge_force``|, |``hinge_moment``|.
+        - ``min_failure_margin``, ``critical_ply`` (0-based from the bottom), ``critical_element``
+          (an index into the panel's quads), ``critical_time_s``: the ply failure envelope of a run
+          with ``stresses=True`` (metadata ``hinges[k]["stress"]``; deployfx.stress).
 
         System: ``max_node_E_deflection_m`` (m, the paper's node E, when recorded),
         ``body_attitude_change_deg`` (deg, |``body_attitude``[-1] - ``body_attitude``[0]|, free base),
@@ -319,6 +324,10 @@ class Result:
                 if a is not None:
                     measured.add(key)
                     per[key][k] = float(np.linalg.norm(a, axis=-1).max())
+            if isinstance(info.get("stress"), dict):  # a run with stresses=True (Model.simulate)
+                for key in ("min_failure_margin", "critical_ply", "critical_element", "critical_time_s"):
+                    measured.add(key)
+                    per[key][k] = info["stress"].get(key)
         out: dict[str, Any] = {}
         for key in HINGE_KEYS:
             values = per[key]

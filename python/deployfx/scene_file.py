@@ -45,6 +45,9 @@ Optional parts are simply left out (TOML has no null)::
     alpha_M_per_s, beta_K_s              # Rayleigh damping
     modes = 10                           # reduced fidelities: clamped modes kept
     derivative_modes = 6                 # optional (left out: min(modes, 6))
+    strengths = [{Xt_Pa, Xc_Pa, Yt_Pa, Yc_Pa, S12_Pa, F12_star, S13_Pa, S23_Pa}]
+                                         # optional: the plies' allowables (deployfx.Strengths),
+                                         #   one for all plies or one per ply; S13, S23 optional
     [hinges.appendage.shell]             # the ShellModel
     nodes_m = [[x, y, z], ...]           # (n, 3), in C_k
     quads = [[i, j, k, l], ...]          # (e, 4), 0-based node indices
@@ -124,6 +127,11 @@ def _write_appendage(a: Appendage) -> dict:
            "alpha_M_per_s": float(a.alpha_M), "beta_K_s": float(a.beta_K), "modes": int(a.modes)}
     if a.derivative_modes is not None:
         out["derivative_modes"] = int(a.derivative_modes)
+    if a.strengths is not None:
+        out["strengths"] = [{**{f"{k}_Pa": float(getattr(s, k)) for k in ("Xt", "Xc", "Yt", "Yc", "S12")},
+                             "F12_star": float(s.F12_star),
+                             **{f"{k}_Pa": float(getattr(s, k)) for k in ("S13", "S23") if getattr(s, k) is not None}}
+                            for s in a.strengths]
     out["shell"] = {"nodes_m": _floats(shell.nodes), "quads": np.asarray(shell.quads, dtype=int).tolist(),
                     "ref_axis": _floats(getattr(shell, "ref_axis", (1.0, 0.0, 0.0))), "plies": plies}
     return out

@@ -24,6 +24,7 @@ from .plate import Plate, ShellModel
 from .results import Result
 from .scene import Scene
 from .specs import Fidelity
+from .strengths import Strengths
 
 N_MM_PER_DEG = 1e-3 * 180.0 / np.pi  # 1 N mm/deg in N m/rad
 
@@ -84,6 +85,9 @@ class Paper2016Parameters:
     #: 1: the paper's spacecraft; 2: a second, mirrored yoke and appendage on the opposite side of
     #: the base (hinge at (-hinge_x, 0, 0)), deploying at the same time (hinge 1).
     wings: int = 1
+    #: The plies' strength allowables (deployfx.Strengths, Pa) for the ply failure envelope
+    #: (``simulate(..., stresses=True)``); the paper gives none for IM6/SC1081, nor does deployfx.
+    strengths: Optional[Strengths] = None
 
 
 class Paper2016Scene:
@@ -112,7 +116,7 @@ class Paper2016Scene:
                             tau0=p.tau0, k_theta=p.k_theta, c_theta=p.c_theta, fitting_inertia=p.fitting_inertia,
                             stowed_angle_deg=90.0)
             scene.set_appendage(shell, fixed, fidelity=fidelity, damping=p.damping, modes=p.modes,
-                                derivative_modes=p.derivative_modes)
+                                derivative_modes=p.derivative_modes, strengths=p.strengths)
             if p.lock:
                 scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, friction=p.friction)
         self.scene = scene  #: the :class:`Scene` before compile (e.g. for deployfx.save_scene)

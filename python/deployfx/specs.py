@@ -17,6 +17,7 @@ import numpy as np
 from ._checks import as_float, as_int
 from .contact import ContactLaw, Friction
 from .plate import ShellModel
+from .strengths import Strengths
 
 __all__ = ["Fidelity", "RigidPart", "Base", "SpinUp", "Hinge", "Appendage", "Lock", "Link"]
 
@@ -214,7 +215,9 @@ class Appendage:
     """A panel: a shell mesh with node coordinates in its body frame (m), the dofs clamped to the
     frame (its root), its :class:`Fidelity`, Rayleigh damping C = alpha_M M + beta_K K (1/s, s),
     and for the reduced fidelities the clamped ``modes`` kept and the modal derivatives of the
-    first ``derivative_modes`` (None: min(modes, 6))."""
+    first ``derivative_modes`` (None: min(modes, 6)); ``strengths``: its plies' allowables
+    (:class:`~deployfx.Strengths`, one for every ply or one per ply, bottom first), for the ply
+    failure envelope of a run (``Model.simulate(..., stresses=True)``), or None."""
 
     shell: ShellModel
     fixed_dofs: tuple
@@ -223,9 +226,11 @@ class Appendage:
     beta_K: float = 0.0
     modes: int = 10
     derivative_modes: Optional[int] = None
+    strengths: Optional[tuple] = None
 
     @staticmethod
-    def make(name: str, shell, fixed_dofs, fidelity, damping, modes, derivative_modes) -> "Appendage":
+    def make(name: str, shell, fixed_dofs, fidelity, damping, modes, derivative_modes,
+             strengths=None) -> "Appendage":
         """A checked panel; errors name ``<name>.<parameter>``."""
         if not isinstance(shell, ShellModel):
             raise TypeError(f"{name}.shell must be a deployfx.ShellModel, got {type(shell).__name__}")
@@ -258,7 +263,15 @@ class Appendage:
         if fidelity in (Fidelity.LINEAR, Fidelity.NONLINEAR) and n_free == 0:
             raise ValueError(f"{name}.fixed_dofs clamps every dof: a deforming panel needs free dofs (use "
                              "fidelity='rigid' for a panel that does not deform)")
-        return Appendage(shell, tuple(fixed), fidelity, modes=modes, derivative_modes=derivative_modes, **values)
+        if strengths is not None:
+            per_ply = (strengths,) if isinstance(strengths, Strengths) else tuple(strengths)
+            plies = len(shell.laminate.plies)
+            if not all(isinstance(s, Strengths) for s in per_ply) or len(per_ply) not in (1, plies):
+                raise TypeError(f"{name}.strengths must be a deployfx.Strengths or one per ply ({plies}), "
+                                f"got {strengths!r}")
+            strengths = per_ply
+        return Appendage(shell, tuple(fixed), fidelity, modes=modes, derivative_modes=derivative_modes,
+                         strengths=strengths, **values)
 
 
 @dataclass(frozen=True)

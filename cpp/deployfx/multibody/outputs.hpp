@@ -16,9 +16,10 @@ struct Outputs {
   Eigen::VectorXd lock_torque;         ///< N m: the lock's torque on theta (contact and friction)
   Eigen::VectorXd latched;             ///< 1 once the lock has latched, else 0
   Eigen::VectorXd strain_energy;       ///< J: the panel's (0 without a deforming panel)
-  /// The reaction the parent exerts on hinge k's subtree through the hinge's bearings, about the
-  /// hinge point, in C_k's axes: force (N) and moment (N m, perpendicular to the axis; the axial
-  /// torque is the spring's, the damper's and the lock's).
+  /// The reaction the parent exerts on hinge k's subtree through the joint (bearings and lock pin
+  /// together: the lock acts as a torque about the axis), about the hinge point, in C_k's axes:
+  /// force (N) and moment (N m, perpendicular to the axis; the axial torque is the spring's, the
+  /// damper's and the lock's).
   Eigen::Matrix3Xd hinge_force, hinge_moment;
   Eigen::Vector3d P_W, H_W;            ///< total linear (N s) and angular momentum about W's origin (N m s)
   Eigen::Vector3d P_base_W, H_base_W;  ///< the base's share
