@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <stdexcept>
 #include <cmath>
 #include <string>
@@ -33,14 +34,20 @@ struct RitzPairs {
 
 // Orthonormalise the candidates in M, in their order, then Rayleigh-Ritz in their span. Gram-
 // Schmidt with a second pass ("twice is enough", Parlett, The Symmetric Eigenvalue Problem, 1980,
-// Sec. 6-9) keeps Q^T M Q = I to round-off and the first candidates' span exactly: the modes,
-// which come first, are then Ritz vectors to the eigensolver's accuracy. (An eigen-decomposition
-// of the Gram matrix mixed them with nearly dependent directions: on the [0, 90] laminate the
-// first Ritz value came 8e-6 above the mode's, and Q^T M Q = I held to 4e-7.)
-RitzPairs rayleigh_ritz(const std::vector<Eigen::VectorXd>& cand, const SparseMatrix& K,
-                        const SparseMatrix& M) {
+// Sec. 6-9) keeps Q^T M Q = I to round-off and the first candidates' span exactly. The first
+// `n_modes` candidates are eigenvectors: they are K-orthogonal to the rest of the M-orthogonal
+// span (phi^T K y = lambda phi^T M y = 0), so Q^T K Q is block diagonal to the eigensolver's
+// accuracy, and each mode keeps its own Rayleigh quotient, accurate relative to its own value;
+// only the rest is rotated to Ritz vectors. (A dense eigensolver on all of Q^T K Q is accurate to
+// eps |Q^T K Q|, the stiff in-plane directions' 1e9: on the [0, 90] laminate the second mode's
+// omega^2 came 1.5e-8 below its value, and an eigen-decomposition of the Gram matrix moved the
+// first by 8e-6 and left Q^T M Q = I to 4e-7.) Ascending.
+RitzPairs rayleigh_ritz(const std::vector<Eigen::VectorXd>& cand, std::size_t n_modes,
+                        const SparseMatrix& K, const SparseMatrix& M) {
   std::vector<Eigen::VectorXd> q, Mq;  // q_i^T M q_j = delta_ij
-  for (const Eigen::VectorXd& x : cand) {
+  std::size_t kept_modes = 0;
+  for (std::size_t c = 0; c < cand.size(); ++c) {
+    const Eigen::VectorXd& x = cand[c];
     const double norm = std::sqrt(x.dot(M * x));
     if (!(norm > 0)) continue;
     Eigen::VectorXd y = x / norm;
@@ -51,29 +58,51 @@ RitzPairs rayleigh_ritz(const std::vector<Eigen::VectorXd>& cand, const SparseMa
     if (!(kept > kDependent)) continue;
     q.push_back(y / std::sqrt(kept));
     Mq.push_back(My / std::sqrt(kept));
+    if (c < n_modes) ++kept_modes;
   }
-  Eigen::MatrixXd Q(K.rows(), q.size());
-  for (std::size_t i = 0; i < q.size(); ++i) Q.col(i) = q[i];
-  if (q.empty()) return {Q, Eigen::VectorXd(0)};
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(Q.transpose() * (K * Q));
-  return {Q * ritz.eigenvectors(), ritz.eigenvalues()};
+  const auto n = static_cast<Eigen::Index>(q.size()), nm = static_cast<Eigen::Index>(kept_modes);
+  Eigen::MatrixXd Q(K.rows(), n);
+  for (Eigen::Index i = 0; i < n; ++i) Q.col(i) = q[static_cast<std::size_t>(i)];
+  RitzPairs out{Eigen::MatrixXd(K.rows(), n), Eigen::VectorXd(n)};
+  for (Eigen::Index i = 0; i < nm; ++i) out.omega2(i) = Q.col(i).dot(K * Q.col(i));
+  out.Phi.leftCols(nm) = Q.leftCols(nm);
+  if (n > nm) {
+    const Eigen::MatrixXd R = Q.rightCols(n - nm);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(R.transpose() * (K * R));
+    out.Phi.rightCols(n - nm) = R * ritz.eigenvectors();
+    out.omega2.tail(n - nm) = ritz.eigenvalues();
+  }
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](Eigen::Index a, Eigen::Index b) { return out.omega2(a) < out.omega2(b); });
+  RitzPairs sorted{Eigen::MatrixXd(K.rows(), n), Eigen::VectorXd(n)};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    sorted.Phi.col(i) = out.Phi.col(order[static_cast<std::size_t>(i)]);
+    sorted.omega2(i) = out.omega2(order[static_cast<std::size_t>(i)]);
+  }
+  return sorted;
 }
 
 // Rayleigh-Ritz in each parity's part of the span, merged in ascending order (parity.hpp): every
 // vector is then exactly bending or exactly in-plane. A candidate's part whose squared M-norm is
 // below kDependent of the candidate's is the eigensolver's and the solves' round-off, and dropped.
-RitzPairs rayleigh_ritz_by_parity(const std::vector<Eigen::VectorXd>& cand, const std::vector<int>& free,
-                                  const SparseMatrix& K, const SparseMatrix& M) {
+RitzPairs rayleigh_ritz_by_parity(const std::vector<Eigen::VectorXd>& cand, std::size_t n_modes,
+                                  const std::vector<int>& free, const SparseMatrix& K,
+                                  const SparseMatrix& M) {
+  // A mode's parity parts are modes too (K and M decouple), and come first in each list.
   std::vector<Eigen::VectorXd> bending, in_plane;
-  for (const Eigen::VectorXd& x : cand) {
+  std::size_t modes_b = 0, modes_m = 0;
+  for (std::size_t c = 0; c < cand.size(); ++c) {
+    const Eigen::VectorXd& x = cand[c];
     Eigen::VectorXd b = x, m = x;
     for (std::size_t k = 0; k < free.size(); ++k)
       (dof_parity(free[k]) == Parity::kBending ? m : b)(static_cast<Eigen::Index>(k)) = 0.0;
     const double total = x.dot(M * x);
-    if (b.dot(M * b) > kDependent * total) bending.push_back(b);
-    if (m.dot(M * m) > kDependent * total) in_plane.push_back(m);
+    if (b.dot(M * b) > kDependent * total) bending.push_back(b), modes_b += c < n_modes;
+    if (m.dot(M * m) > kDependent * total) in_plane.push_back(m), modes_m += c < n_modes;
   }
-  const RitzPairs rb = rayleigh_ritz(bending, K, M), rm = rayleigh_ritz(in_plane, K, M);
+  const RitzPairs rb = rayleigh_ritz(bending, modes_b, K, M), rm = rayleigh_ritz(in_plane, modes_m, K, M);
   RitzPairs out{Eigen::MatrixXd(K.rows(), rb.Phi.cols() + rm.Phi.cols()),
                 Eigen::VectorXd(rb.omega2.size() + rm.omega2.size())};
   for (Eigen::Index c = 0, ib = 0, im = 0; c < out.omega2.size(); ++c) {
@@ -101,8 +130,9 @@ RitzBasis ritz_basis(const ShellModel& model, const std::vector<int>& fixed,
   const SparseMatrix K = restrict(model.stiffness(), free), M = restrict(model.mass(), free);
   const ModalResult modal = lowest_modes(K, M, options.modes);
 
-  std::vector<Eigen::VectorXd> cand;  // candidates on the free dofs
+  std::vector<Eigen::VectorXd> cand;  // candidates on the free dofs, the modes first
   for (int i = 0; i < options.modes; ++i) cand.push_back(modal.modes.col(i));
+  const auto n_modes = static_cast<std::size_t>(options.modes);
   Eigen::SimplicialLDLT<SparseMatrix> K_inv;
   const int n_extra = (options.static_correction ? static_cast<int>(inertial_loads.cols()) : 0) +
                       options.derivative_modes * (options.derivative_modes + 1) / 2;
@@ -140,8 +170,8 @@ RitzBasis ritz_basis(const ShellModel& model, const std::vector<int>& fixed,
       }
   }
   const RitzPairs ritz = parity_decoupled(K, free, kDecoupled) && parity_decoupled(M, free, kDecoupled)
-                             ? rayleigh_ritz_by_parity(cand, free, K, M)
-                             : rayleigh_ritz(cand, K, M);
+                             ? rayleigh_ritz_by_parity(cand, n_modes, free, K, M)
+                             : rayleigh_ritz(cand, n_modes, K, M);
   const Eigen::MatrixXd& Phi_free = ritz.Phi;
 
   RitzBasis basis;
