@@ -36,6 +36,27 @@ struct Series {
 
 }  // namespace run_detail
 
+/// A run's impact records (joint/impact_record.hpp) as a dict of equal-length numpy arrays.
+inline pybind11::dict impact_table(const std::vector<deployfx::joint::Impact>& records) {
+  namespace py = pybind11;
+  const auto n = static_cast<py::ssize_t>(records.size());
+  py::array_t<long> hinge(n), wall(n), steps(n);
+  py::array_t<double> t_on(n), t_sep(n), v_in(n), v_out(n), peak(n), t_peak(n), impulse(n), pen(n);
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const auto& r = records[static_cast<std::size_t>(i)];
+    hinge.mutable_at(i) = r.hinge, wall.mutable_at(i) = r.wall, steps.mutable_at(i) = r.steps;
+    t_on.mutable_at(i) = r.t_onset, t_sep.mutable_at(i) = r.t_separation;
+    v_in.mutable_at(i) = r.v_approach, v_out.mutable_at(i) = r.v_rebound;
+    peak.mutable_at(i) = r.peak_force, t_peak.mutable_at(i) = r.t_peak;
+    impulse.mutable_at(i) = r.impulse, pen.mutable_at(i) = r.max_penetration;
+  }
+  py::dict d;
+  d["hinge"] = hinge, d["wall"] = wall, d["t_onset"] = t_on, d["t_separation"] = t_sep;
+  d["v_approach"] = v_in, d["v_rebound"] = v_out, d["peak_force"] = peak, d["t_peak"] = t_peak;
+  d["impulse"] = impulse, d["max_penetration"] = pen, d["steps"] = steps;
+  return d;
+}
+
 inline pybind11::dict run_released(const deployfx::multibody::Model& model, deployfx::multibody::Data& data,
                                    const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                                    const deployfx::multibody::RunOptions& opt, const pybind11::object& progress,
@@ -125,6 +146,8 @@ inline pybind11::dict run_released(const deployfx::multibody::Model& model, depl
   d["steps"] = tr.steps;
   d["rejected"] = tr.rejected;
   d["events"] = tr.events;
+  d["contact_steps"] = tr.contact_steps;
+  d["impacts"] = impact_table(data.impacts);
   d["factorizations"] = run.factorizations;
   d["failure"] = tr.failure;
   return d;

@@ -35,7 +35,7 @@ def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float
     run stopped early or, for a ``conservative`` scene, its energy grew (_energy_growth)."""
     meta.update(dt=dt, t_end=t_end, integrator=_scheme_name(scheme),
                 steps=int(raw["steps"]), substeps=int(raw["substeps"]), rejected=int(raw["rejected"]),
-                events=int(raw["events"]), tolerance=tolerance,
+                events=int(raw["events"]), contact_steps=int(raw["contact_steps"]), tolerance=tolerance,
                 newton_iterations=int(np.sum(raw["newton_iterations"])),
                 factorizations=int(raw["factorizations"]), wall_time_s=wall)
     if conservative:  # report the growth first: it explains a later Newton failure

@@ -20,7 +20,7 @@ from typing import Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core
+from . import _core, impacts
 from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg
 from .integrators import GeneralizedAlpha
 from .plate import ShellModel
@@ -305,7 +305,11 @@ class Model:
                 "run_started_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
         meta.update(self.description)
         meta.update(metadata or {})
-        meta.update(base_free=self.base_free, hinges=hinge_info if stresses else self._hinge_metadata(),
+        hinge_info = hinge_info if stresses else self._hinge_metadata()
+        for k, records in enumerate(impacts.per_hinge(raw["impacts"], self.num_hinges)):
+            if self.links[k].lock is not None:
+                hinge_info[k]["impacts"] = records
+        meta.update(base_free=self.base_free, hinges=hinge_info,
                     nodes={str(k): [int(i) for i in v] for k, v in node_sets.items()})
         if len(raw["t"]):  # the momentum the bodies carry: the scale of its conservation error
             scale = {"P_N_s": float(np.max(raw["momentum_scale_P"])),

@@ -69,7 +69,8 @@ PER_HINGE_SERIES = ("deployment_angle", "deployment_rate", "spring_torque", "loc
 #: The per-hinge series with a vector per hinge ((n, H, 3)).
 _VECTOR_PER_HINGE_SERIES = ("hinge_force", "hinge_moment", "tip_displacement")
 #: Per-hinge metrics of :meth:`Result.summary` (lists, one value per hinge), in order.
-HINGE_KEYS = ("first_lock_time_s", "impacts", "peak_lock_force_N", "settling_time_s", "max_tip_deflection_m",
+HINGE_KEYS = ("first_lock_time_s", "impacts", "peak_lock_force_N", "peak_lock_force_time_s", "peak_impact_impulse_N_s",
+              "settling_time_s", "max_tip_deflection_m",
               "peak_hinge_force_N", "peak_hinge_moment_Nm", "min_failure_margin", "critical_ply", "critical_element",
               "critical_time_s")
 #: System metrics of :meth:`Result.summary`, in order.
@@ -244,6 +245,18 @@ class Result:
         return Result(series, self._units, meta)
 
     @property
+    def impacts(self) -> tuple:
+        """The lock impacts of the run (:class:`deployfx.impacts.Impact`, one per contact of a
+        lock wall, located from every step the engine took), in order of onset; a hinge view's
+        are its hinge's."""
+        from .impacts import Impact
+
+        infos = self._metadata.get("hinges")
+        records = [Impact.from_dict(r) for info in (infos if isinstance(infos, list) else [])
+                   if isinstance(info, dict) for r in info.get("impacts", ())]
+        return tuple(sorted(records, key=lambda r: r.t_onset_s))
+
+    @property
     def num_hinges(self) -> int:
         """The run's hinges: the width of its per-hinge series (1 for a hinge view)."""
         return self._hinge_axes()[0]
@@ -272,7 +285,10 @@ class Result:
         - ``first_lock_time_s`` (s): the first sample with ``lock_force`` > 0 (hinges with a lock).
         - ``impacts``: separate contacts in ``lock_force`` (chatter shorter than 0.05 s merged,
           contacts below 1e-3 of the peak dropped).
-        - ``peak_lock_force_N`` (N): max of ``lock_force``.
+        - ``peak_lock_force_N`` (N), ``peak_lock_force_time_s`` (s), ``peak_impact_impulse_N_s``
+          (N s): the largest located peak among the run's impact records (:attr:`impacts`), when
+          it was, and that impact's impulse; a result without records (older files) gives the max
+          of ``lock_force`` and its sample time, and no impulse.
         - ``settling_time_s`` (s): ``deployment_angle`` within 0.1 deg of its final value, or within
           the lock's free play if wider (metadata ``hinges[k].lock_play_deg``: a latched pin may
           rest anywhere in its groove), and ``lock_force`` within 1 % of its peak of its final value
@@ -310,7 +326,23 @@ class Result:
                 measured.update(("first_lock_time_s", "impacts", "peak_lock_force_N"))
                 per["first_lock_time_s"][k] = metrics.first_contact_time(t, force)
                 per["impacts"][k] = metrics.impact_count(t, force)
-                per["peak_lock_force_N"][k] = metrics.peak_lock_force(force)
+                records = info.get("impacts")
+                if isinstance(records, list):
+                    from .impacts import Impact, strongest
+
+                    measured.update(("peak_lock_force_time_s", "peak_impact_impulse_N_s"))
+                    peak = strongest(Impact.from_dict(r) for r in records)
+                    if peak is not None:
+                        per["peak_lock_force_N"][k] = peak.peak_force_N
+                        per["peak_lock_force_time_s"][k] = peak.t_peak_s
+                        per["peak_impact_impulse_N_s"][k] = peak.impulse_N_s
+                    else:
+                        per["peak_lock_force_N"][k] = 0.0
+                else:
+                    measured.add("peak_lock_force_time_s")
+                    per["peak_lock_force_N"][k] = metrics.peak_lock_force(force)
+                    if force.max() > 0:
+                        per["peak_lock_force_time_s"][k] = float(t[int(np.argmax(force))])
                 if angle is not None:
                     measured.add("settling_time_s")
                     per["settling_time_s"][k] = metrics.lock_settling_time(

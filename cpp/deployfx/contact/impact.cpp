@@ -70,6 +70,13 @@ double impact_time_scale(const ContactLaw& law, double mass, double v0) {
   return T;
 }
 
+double rebound_time_scale(const ContactLaw& law, double mass, double v0) {
+  const double T = impact_time_scale(law, mass, v0);
+  if (!(law.D() > 0.0)) return T;
+  const ContactLaw hertz(ContactLaw::Kind::kKelvinVoigtHertz, law.K(), law.n(), 0.0);
+  return mass / law.D() < 0.1 * impact_time_scale(hertz, mass, v0) ? 0.0 : T;
+}
+
 ImpactResult simulate_impact(const ContactLaw& law, double mass, double v0, double dt,
                              bool record, long max_steps) {
   const double T = impact_time_scale(law, mass, v0);

@@ -78,6 +78,17 @@ class SecondOrderSystem {
                                double /*t*/) {
     return {};
   }
+  /// Bounds on a step's local displacement error, per velocity coordinate (its units: m, rad),
+  /// while a fast process is under way at the last accepted state (a contact in progress: a
+  /// fraction of its penetration scale, on its hinge angle; +inf where there is none), and the
+  /// shortest step worth taking for it (s). `error` empty when nothing asks. The stepper
+  /// shortens its steps below dt to respect them (integrate/trajectory.hpp), so that an impact
+  /// is resolved at any output step.
+  struct StepBounds {
+    Eigen::VectorXd error;
+    double min_step = 0;
+  };
+  virtual StepBounds step_bounds() { return {}; }
   /// Called after every accepted step. An event function at or below its `margin` (same order
   /// as gaps(); empty: all 0) has switched: at a located event, the stepper gives every event a
   /// margin of the location tolerance, so that events simultaneous to round-off (two symmetric

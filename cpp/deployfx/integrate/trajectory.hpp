@@ -9,6 +9,11 @@
 //   through, whatever dt. A search never steps below 1e-8 s (where the velocity update nears
 //   round-off and Newton cannot converge): switches are located to that width at best, and one
 //   closer than that to an output time ends the output step.
+// - A contact is resolved whatever dt: while the system asks for it (step_error_bounds: a contact
+//   in progress), steps are shortened until their local displacement error estimate
+//   h^2 |beta - 1/6| |a_n+1 - a_n| respects the system's bounds, and grow back (at most doubling)
+//   to dt after the contact; they divide the output step evenly, so the outputs stay on the
+//   user's grid (Trajectory::contact_steps counts them).
 #include <Eigen/Core>
 #include <functional>
 #include <string>
@@ -34,7 +39,8 @@ struct Trajectory {
   long substeps = 0;                    // integrator steps taken (event searches included)
   long events = 0;                      // contact switches located
   long steps = 0;                       // accepted integrator steps (the outer ones)
-  long rejected = 0;                    // steps rejected by the error control
+  long rejected = 0;                    // steps rejected by the error control (contacts' included)
+  long contact_steps = 0;               // accepted steps shortened below dt to resolve a contact
   std::string failure;                  // empty when t_end was reached
 };
 

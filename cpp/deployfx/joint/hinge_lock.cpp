@@ -77,6 +77,30 @@ LockLoad lock_load(const HingeLockSpec& lock, const LockHistory& h, double theta
   return out;
 }
 
+void wall_states(const HingeLockSpec& lock, const LockHistory& h, double theta, double rate, WallState* stop,
+                 WallState* latch) {
+  const double r = lock.pin_radius;
+  auto state = [&](bool contact, double v0, double delta, double delta_dot) {
+    WallState w{contact, 0.0, delta, delta_dot};
+    if (contact) w.F = unclamped(lock.law, delta, delta_dot, v0).F;
+    return w;
+  };
+  *stop = state(h.stop_contact, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
+  *latch = h.latched ? state(h.latch_contact, h.latch_v0, r * (lock.theta_latch() - theta), -r * rate) : WallState{};
+}
+
+ContactResolution contact_resolution(const LockHistory& h) {
+  ContactResolution out{std::numeric_limits<double>::infinity(), 0.0};
+  auto add = [&](bool contact, double T, double v0) {
+    if (!contact || !(T > 0)) return;
+    out.error = std::min(out.error, kContactResolution * v0 * T);
+    out.min_step = out.min_step > 0 ? std::min(out.min_step, T / kMaxStepsPerImpactTime) : T / kMaxStepsPerImpactTime;
+  };
+  add(h.stop_contact, h.stop_T, h.stop_v0);
+  add(h.latch_contact, h.latch_T, h.latch_v0);
+  return out;
+}
+
 namespace {
 
 // A wall's event function (> 0 while its mode holds), penetration delta and rate delta_dot:

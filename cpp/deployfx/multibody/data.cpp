@@ -17,6 +17,7 @@ Data::Data(const Model& m)
 
 void Data::reset_history() {
   for (joint::LockHistory& h : locks) h = {};
+  impacts.clear();
 }
 
 bool Data::fits(const Model& m) const {

@@ -26,6 +26,8 @@ class Data {
 
   // History (written by accept() only, on accepted steps): per hinge (unused without a lock).
   std::vector<joint::LockHistory> locks;
+  /// Every contact of every lock wall so far, in order of onset (joint/impact_record.hpp).
+  std::vector<joint::Impact> impacts;
   // Memos of the panels' evaluations (per hinge; used for the panels only).
   std::vector<body::FlexibleBody::Workspace> panels;
 

@@ -4,6 +4,7 @@
 // the locks' limit on a Newton step across their friction band.
 #include <Eigen/Core>
 
+#include "deployfx/integrate/second_order_system.hpp"
 #include "deployfx/multibody/data.hpp"
 
 namespace deployfx::multibody {
@@ -11,10 +12,19 @@ namespace deployfx::multibody {
 /// Two event functions per locked hinge (stop, latch), in hinge order; positive while each wall's
 /// mode holds (joint::lock_events) under d's history.
 Eigen::VectorXd lock_events(const Model& m, const Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v);
-/// Updates d's lock histories after an accepted step ending at (q, v); an event function at or
-/// below its `margin` (lock_events' order; empty: 0) switches.
-void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+/// Updates d's lock histories after an accepted step ending at (q, v, t); an event function at or
+/// below its `margin` (lock_events' order; empty: 0) switches. A wall that closes gets its
+/// penetration scale from the pin's effective mass there (hinge_inverse_inertia); every wall's
+/// contact is followed into d.impacts (joint/impact_record.hpp).
+void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t,
             const Eigen::VectorXd& margin = Eigen::VectorXd());
+/// e^T M(q)^-1 e for hinge k's rate: the inverse of the hinge's effective inertia (1/(kg m^2))
+/// against an impulse about its axis with every other coordinate free (the mass matrix, dr/da).
+/// On a deforming panel that is the fitting's and the root's, far below the panel's.
+double hinge_inverse_inertia(const Model& m, Data& d, const Eigen::VectorXd& q, double t, int k);
+/// integrate::SecondOrderSystem::step_bounds: on each hinge angle whose lock has a wall in
+/// contact, joint::contact_resolution's error / the pin radius (rad); empty with none.
+integrate::SecondOrderSystem::StepBounds step_bounds(const Model& m, const Data& d);
 /// The smallest of the locks' joint::friction_step_limit for the velocity change dv.
 double friction_step_limit(const Model& m, const Data& d, const Eigen::VectorXd& v, const Eigen::VectorXd& dv);
 

@@ -45,9 +45,11 @@ Eigen::VectorXd TreeSystem::gaps(const Eigen::VectorXd& q, const Eigen::VectorXd
   return lock_events(m_, d_, q, v);
 }
 
-void TreeSystem::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double, const Eigen::VectorXd& margin) {
-  multibody::accept(m_, d_, q, v, margin);
+void TreeSystem::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t, const Eigen::VectorXd& margin) {
+  multibody::accept(m_, d_, q, v, t, margin);
 }
+
+integrate::SecondOrderSystem::StepBounds TreeSystem::step_bounds() { return multibody::step_bounds(m_, d_); }
 
 double TreeSystem::newton_step_limit(const Eigen::VectorXd&, const Eigen::VectorXd& v, const Eigen::VectorXd& dv) {
   return friction_step_limit(m_, d_, v, dv);
