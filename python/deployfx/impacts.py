@@ -24,7 +24,7 @@ from typing import Any, Mapping, Optional
 
 import numpy as np
 
-__all__ = ["Impact", "WALLS"]
+__all__ = ["Impact", "WALLS", "peak_force"]
 
 #: The lock's walls, by the engine's index: the stop at the deployed angle, and the latch that
 #: holds the pin back once it has passed (joint/hinge_lock.hpp).
@@ -97,3 +97,16 @@ def strongest(records) -> Optional[Impact]:
         if best is None or r.peak_force_N > best.peak_force_N:
             best = r
     return best
+
+
+def peak_force(result, hinge: int = 0, t_end: Optional[float] = None) -> Optional[float]:
+    """The largest located peak force (N) of hinge ``hinge``'s impacts in ``result`` whose peak
+    is at or before ``t_end`` (s; None: all), 0.0 if it has none; None if the result carries no
+    impact records (a result saved before deployfx recorded them, or built from series)."""
+    infos = result.metadata.get("hinges")
+    if not (isinstance(infos, list) and hinge < len(infos) and isinstance(infos[hinge], dict)
+            and isinstance(infos[hinge].get("impacts"), list)):
+        return None
+    limit = math.inf if t_end is None else t_end * (1 + 1e-12)
+    peaks = [r["peak_force_N"] for r in infos[hinge]["impacts"] if r["t_peak_s"] <= limit]
+    return float(max(peaks)) if peaks else 0.0
