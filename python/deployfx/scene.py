@@ -26,7 +26,7 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 
 from . import _core
-from ._checks import as_float, as_int
+from ._checks import as_float, as_int, as_int_sequence
 from .contact import ContactLaw, Friction
 from ._run import ENERGY_GROWTH_LIMIT, _run_arguments, _run_result, _timed_run  # noqa: F401 (ENERGY_GROWTH_LIMIT: public here)
 from .integrators import GeneralizedAlpha
@@ -342,7 +342,7 @@ class Scene:
             raise TypeError(f"shell must be a deployfx.ShellModel, got {type(shell).__name__}")
         if fidelity not in FIDELITIES:
             raise ValueError(f"fidelity = {fidelity!r} is invalid: must be one of {', '.join(FIDELITIES)}")
-        fixed = sorted({int(i) for i in fixed_dofs})
+        fixed = sorted(set(as_int_sequence("fixed_dofs", fixed_dofs)))
         if fixed and (fixed[0] < 0 or fixed[-1] >= shell.num_dofs):
             raise ValueError(f"fixed_dofs must lie in [0, {shell.num_dofs})")
         if len(damping) != 2:

@@ -16,6 +16,7 @@ from typing import Optional
 import numpy as np
 
 from . import paper2016 as _paper
+from ._checks import check_field_types
 from ._run import base_attitude_deg
 from .contact import ContactLaw, Friction
 from .integrators import GeneralizedAlpha, SimulationError
@@ -79,6 +80,9 @@ class Paper2016Parameters:
     #: Reduced models: clamped vibration modes in the Ritz basis (Scene.set_appendage).
     modes: int = 10
     derivative_modes: Optional[int] = None      #: None: min(modes, 6) (Scene.set_appendage)
+
+    def __post_init__(self) -> None:
+        check_field_types(self)  # lock='no' is an error, not a lock (issue 29)
 
 
 class Paper2016Scene:
