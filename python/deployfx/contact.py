@@ -88,6 +88,9 @@ class ContactLaw:
     _impl: _core.ContactLaw = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.kind, str):
+            raise TypeError(f"contact.kind must be a string, got {type(self.kind).__name__} "
+                            f"{self.kind!r}")
         if self.kind not in _KINDS:
             kinds = ", ".join(map(repr, _KINDS))
             raise ValueError(f"contact.kind = {self.kind!r} is not one of {kinds}")

@@ -41,8 +41,6 @@ import json
 import keyword
 import math
 import os
-import zipfile
-import zlib
 from pathlib import Path
 from typing import Any, Mapping, Optional, Union
 
@@ -283,18 +281,21 @@ def load(path: PathLike) -> Result:
     for one that is truncated, altered (its SHA-256 does not match) or not a result file."""
     # The file is opened here, not by np.load, which leaks its handle on a broken archive.
     with open(Path(path), "rb") as fh:
+        # Whatever a damaged archive raises inside zipfile or numpy (BadZipFile, EOFError,
+        # NotImplementedError for a garbled compression method, struct.error, ...) is the file's
+        # fault: a ValueError naming it, with the cause chained.
         try:
             archive = np.load(fh, allow_pickle=False)
-        except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
-            raise ValueError(f"{path} is not a readable deployfx result file: {e}") from e
+        except Exception as e:  # noqa: BLE001
+            raise ValueError(f"{path} is not a readable deployfx result file: "
+                             f"{type(e).__name__}: {e}") from e
         if not isinstance(archive, np.lib.npyio.NpzFile):
             raise ValueError(f"{path} is not a deployfx result file (a bare .npy array, not an "
                              "archive)")
         try:
             with archive:
                 header, series = _read_archive(archive, path)
-        except (OSError, ValueError, KeyError, EOFError, MemoryError, zipfile.BadZipFile,
-                zlib.error, UnicodeDecodeError) as e:
+        except Exception as e:  # noqa: BLE001 - see above
             if isinstance(e, ValueError) and str(e).startswith(str(path)):
                 raise
             raise ValueError(f"{path} is truncated or corrupted: {type(e).__name__}: {e}") from e
