@@ -30,9 +30,10 @@ class Outcome:
         return json.loads(self.stdout.strip().splitlines()[-1])
 
     def describe(self) -> str:
-        how = ("timed out" if self.timed_out else
-               f"killed by {self.signal_name}" if self.returncode < 0 else f"exit {self.returncode}")
-        return f"child {how}\n--- stdout:\n{self.stdout[-3000:]}\n--- stderr:\n{self.stderr[-3000:]}"
+        how = ("timed out" if self.timed_out else f"killed by {self.signal_name}"
+               if self.returncode < 0 else f"exit {self.returncode}")
+        return (f"child {how}\n--- stdout:\n{self.stdout[-3000:]}\n"
+                f"--- stderr:\n{self.stderr[-3000:]}")
 
 
 def run_python(code: str, timeout: float = 120.0, stdin: str | None = None) -> Outcome:

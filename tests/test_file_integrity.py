@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import deployfx as dfx
-from deployfx import _atomic, results, scene_file, scenes
+from deployfx import _atomic, scene_file, scenes
 
 
 def _result(n=50, seed=0):

@@ -89,7 +89,8 @@ def test_the_weakest_lightest_material_accepted_keeps_its_frequencies():
         import deployfx as dfx
         for scale in (1e-48, 1.0):
             lam = dfx.Laminate([dfx.Ply(dfx.Isotropic(scale, 0.3, scale), 0.002)])
-            print(json.dumps(dfx.Plate(1.0, 0.5, lam, 4, 2).natural_frequencies(3, "CFFF").tolist()))
+            f = dfx.Plate(1.0, 0.5, lam, 4, 2).natural_frequencies(3, "CFFF")
+            print(json.dumps(f.tolist()))
     """)).stdout.splitlines()
     tiny, unit = np.array(json.loads(out[0])), np.array(json.loads(out[1]))
     np.testing.assert_allclose(tiny, unit, rtol=1e-9)

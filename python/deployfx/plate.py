@@ -167,7 +167,8 @@ class ShellModel:
     def strain_energy(self, u: np.ndarray) -> float:
         """Strain energy (J) with the Green membrane strain of Eq. 14."""
         U = self._impl.strain_energy(_vector("u", u, self.num_dofs))
-        return float(_finite("the strain energy", np.float64(U), "the displacements u are too large"))
+        return float(_finite("the strain energy", np.float64(U),
+                             "the displacements u are too large"))
 
     def internal_force(self, u: np.ndarray) -> Tuple[np.ndarray, scipy.sparse.csc_matrix]:
         """Internal force ``dU/du`` (ndof) and tangent ``K_L + K_L* + K_s`` at ``u``."""
