@@ -255,3 +255,13 @@ def test_paper2016_parameters_are_type_checked(override, name):
     """paper2016(lock='no') turned the lock on (a non-empty string is true)."""
     with pytest.raises(TypeError, match=rf"Paper2016Parameters\.{name}"):
         scenes.paper2016(2, "linear", **override)
+
+
+def test_a_reduced_appendage_left_free_to_move_is_a_clear_error(plate):
+    """Found by the fuzzer: a reduced appendage clamped at one dof only raised RuntimeError
+    ('the clamped stiffness is singular') from compile(); it is bad input, named."""
+    scene = (dfx.Scene().set_base(100.0, 10.0)
+             .set_hinge(point=(0.1, 0.0, 0.0), axis=(0.0, 1.0, 0.0), tau0=1.0))
+    scene.set_appendage(plate.model, [15], "reduced-linear", modes=2)
+    with pytest.raises(ValueError, match="fixed_dofs leave a rigid-body motion"):
+        scene.compile()
