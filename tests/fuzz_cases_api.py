@@ -96,6 +96,9 @@ def shell(length, width, nx, ny, node_edit, quad_edit, ref_axis, plies, method, 
     m = dfx.ShellModel(nodes, quads, _laminate(plies), ref_axis)
     ndof = m.num_dofs
     pattern = np.sin(np.arange(ndof) * 0.7)  # a deterministic, non-trivial displacement shape
+    if not isinstance(scale, (int, float)) or isinstance(scale, bool):
+        # A wrong type goes to the API as it is: the pressure, or the displacements u.
+        return m.pressure_load(scale) if method == "pressure_load" else m.internal_force(scale)
     if method == "pressure_load":
         return m.pressure_load(scale)
     if method == "static":

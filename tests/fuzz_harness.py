@@ -101,7 +101,7 @@ def _classify(kind: str, args: dict, timeout: float) -> dict:
     return {"outcome": "ok", "detail": ""}
 
 
-def run_cases(module: str, cases: list, batch: int = 200, timeout_per_case: float = 60.0) -> list:
+def run_cases(module: str, cases: list, batch: int = 200, timeout_per_case: float = 120.0) -> list:
     """Run ``cases`` in children of up to ``batch`` cases each; after a crash or a hang, the rest
     of that batch runs in a new child. Returns one (case, outcome, detail) per case."""
     results, todo = [], list(cases)
@@ -113,7 +113,7 @@ def run_cases(module: str, cases: list, batch: int = 200, timeout_per_case: floa
     return results
 
 
-def run_batch(module: str, cases: list, timeout_per_case: float = 60.0) -> list:
+def run_batch(module: str, cases: list, timeout_per_case: float = 120.0) -> list:
     """Run ``cases`` in one child; returns one (case, outcome, detail) per case run, with a crash
     or hang charged to the case that was running (the cases after it are not run)."""
     env = dict(os.environ)

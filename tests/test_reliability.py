@@ -159,6 +159,15 @@ def test_a_huge_mass_gives_a_finite_peak_force_matching_hertz():
     assert r.restitution == pytest.approx(1.0, abs=1e-9)
 
 
+def test_an_impact_step_below_round_off_is_refused():
+    """Found by the fuzzer: dt_s = 1e-9 s on a 1e-2 s contact ran 1e7 recorded steps (bounded,
+    but minutes); below T / 1e5 a smaller step only adds round-off."""
+    law = contact.ContactLaw("flores", K=1e4, n=2.37, e=0.99999)
+    T = contact.impact_time_scale(law, 0.005, 0.0017)
+    with pytest.raises(ValueError, match=r"impact\.dt = .* in \[T/1e5, T/10\]"):
+        contact.impact(law, 0.005, 0.0017, dt_s=T * 1e-7)
+
+
 def test_an_impact_beyond_the_doubles_is_a_clear_error():
     law = contact.ContactLaw("kelvin-voigt-hertz", K=1e7, n=1.5)
     with pytest.raises(ValueError, match="impact.mass"):

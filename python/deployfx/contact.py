@@ -186,7 +186,7 @@ def impact(law: ContactLaw, mass_kg: float, v0_m_s: float, dt_s: float | None = 
     """Integrate m delta'' = -F(delta, delta') from first contact (delta = 0, delta' = v0) to
     separation, in C++ with RK4 and the turning point and separation located to round-off.
 
-    ``dt_s`` defaults to T / 4000 (T = :func:`impact_time_scale`; at most T / 10 is accepted);
+    ``dt_s`` defaults to T / 4000 (T = :func:`impact_time_scale`; T / 1e5 to T / 10 accepted);
     the error is O((dt/T)^4) for n = 1 and O((dt/T)^2.5) for n = 1.5 (delta^n is not smooth at
     onset): ~1e-11 relative on restitution, penetration and duration at the default step.
 

@@ -39,7 +39,7 @@ double impact_time_scale(const ContactLaw& law, double mass, double v0);
 /// linear Kelvin-Voigt law of damping ratio zeta: ~4 zeta^2 T, so up to zeta ~ 15).
 constexpr double kMaxContactDurationT = 1000.0;
 
-/// mass > 0 (kg), v0 > 0 (m/s), dt > 0 (s). Throws std::invalid_argument for bad input, for a
+/// mass > 0 (kg), v0 > 0 (m/s), dt in [T/1e5, T/10] (s). Throws std::invalid_argument for bad input, for a
 /// contact that lasts beyond kMaxContactDurationT time scales or max_steps steps (the message
 /// names the law's parameters, mass and dt), or when the force or the result leaves the finite
 /// doubles. `poll` (if set) is called every 2^16 steps; it may throw to interrupt the run.
