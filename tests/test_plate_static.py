@@ -37,7 +37,7 @@ def test_clamped_square_uniform_load():
 
 
 def test_singular_boundary_is_reported():
-    with pytest.raises(RuntimeError, match="rigid-body"):
+    with pytest.raises(ValueError, match="boundary.*rigid-body"):
         square(1e-3, 4).static(1.0, "FFFF")
 
 

@@ -100,8 +100,13 @@ void define_contact(py::module_& m) {
         [](const ContactLaw& law, double mass, double v0, double dt, bool record, long max_steps) {
           ImpactResult r;
           {
+            // Ctrl-C: the signal handler only sets a flag; check it with the GIL held.
+            const auto poll = [] {
+              py::gil_scoped_acquire acquire;
+              if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+            };
             py::gil_scoped_release release;
-            r = deployfx::contact::simulate_impact(law, mass, v0, dt, record, max_steps);
+            r = deployfx::contact::simulate_impact(law, mass, v0, dt, record, max_steps, poll);
           }
           py::dict d;
           d["restitution"] = r.restitution;
@@ -117,5 +122,5 @@ void define_contact(py::module_& m) {
           return d;
         },
         py::arg("law"), py::arg("mass"), py::arg("v0"), py::arg("dt"), py::arg("record") = false,
-        py::arg("max_steps") = 100'000'000L);
+        py::arg("max_steps") = 10'000'000L);
 }

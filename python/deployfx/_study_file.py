@@ -60,30 +60,14 @@ SCHEMA, VERSION = "deployfx.study", 1
 _READY = ("paper2016", "spin_up_beam")
 
 
-def _read_text(path: Path) -> Any:
-    suffix = path.suffix.lower()
-    if suffix not in (".toml", ".json"):
-        raise ValueError(f"path = {str(path)!r} must end in .toml or .json (the file format)")
-    try:
-        if suffix == ".json":
-            return json.loads(path.read_text(encoding="utf-8"))
-        try:
-            import tomllib
-        except ModuleNotFoundError:  # Python < 3.11
-            import tomli as tomllib
-        with path.open("rb") as f:
-            return tomllib.load(f)
-    except (json.JSONDecodeError, ValueError) as e:  # TOMLDecodeError is a ValueError
-        raise ValueError(f"{path} is not a valid {suffix[1:].upper()} file: {e}") from e
-
-
 def read_scene_dict(path: Path) -> dict:
     """A scene file's dict, checked by reading it as a scene (errors name the key)."""
+    from . import scene_file
     from .scene_file import scene_from_dict
 
     if not path.exists():
         raise FileNotFoundError(f"scene file {path} does not exist")
-    d = _read_text(path)
+    d = scene_file.read_scene_dict(path)  # its content_sha256 checked and removed
     scene_from_dict(d)
     return d
 
@@ -328,7 +312,9 @@ def load_study(path) -> Any:
         return study_from_dict(stored_spec(path), path.parent)
     if not path.exists():
         raise FileNotFoundError(f"study file {path} does not exist")
-    d = _read_text(path)
+    from .scene_file import read_file
+
+    d = read_file(path)
     try:
         return study_from_dict(d, path.parent)
     except ValueError as e:

@@ -6,6 +6,9 @@
   prints the summary; ``--model reduced-nonlinear --modes 10`` runs a reduced appendage.
 - ``deployfx run spin-up-beam --omega-s 4``: the spin-up beam of Kane, Ryan & Banerjee (1987).
 - ``deployfx appendage``: modes of the paper's laminated appendage.
+
+Every file is written atomically (deployfx._atomic): a run that is killed while writing leaves the
+previous file as it was, never a partial one.
 """
 from __future__ import annotations
 
@@ -13,12 +16,13 @@ import argparse
 import csv
 import json
 import sys
+import tempfile
 from pathlib import Path
 from typing import Optional, Sequence
 
 import numpy as np
 
-from . import paper2016
+from . import _atomic, paper2016
 from .integrators import SimulationError
 
 
@@ -37,7 +41,7 @@ def _appendage(args: argparse.Namespace) -> int:
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        with open(out / "appendage_frequencies.csv", "w", newline="") as fh:
+        with _atomic.atomic_open(out / "appendage_frequencies.csv", "w", newline="") as fh:
             writer = csv.writer(fh)
             writer.writerow(["mode", "frequency_Hz"])
             writer.writerows([k, f"{fk:.8g}"] for k, fk in enumerate(f, 1))
@@ -72,7 +76,8 @@ def _plot_modes(plate, f: np.ndarray, w: np.ndarray, path: Path) -> None:
             ax.set_ylabel("y (m)")
     fig.colorbar(cs, ax=axes.ravel().tolist(), shrink=0.8, label="normalised w")
     fig.suptitle("Cantilever modes of the laminated appendage (transverse displacement)")
-    fig.savefig(path, dpi=110)
+    with _atomic.atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)
 
 
@@ -100,7 +105,8 @@ def _write_csv(result, path: Path) -> None:
         elif a.ndim == 2 and a.shape[1] == 3:  # vectors (attitude, momenta): one column each
             for j, axis in enumerate("xyz"):
                 df_cols.append((f"{name}_{axis} ({unit})", a[:, j]))
-    with open(path, "w", newline="") as fh:
+        # fields over the mesh (node displacements) and raw coordinates are saved by Result.save
+    with _atomic.atomic_open(path, "w", newline="") as fh:
         writer = csv.writer(fh)
         writer.writerow([c for c, _ in df_cols])
         for k in range(len(result.t)):
@@ -155,15 +161,20 @@ def _run(args: argparse.Namespace) -> int:
 
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        _atomic.write_text(out / "summary.json", json.dumps(summary, indent=2) + "\n")
         for label, r in zip(labels, results):
             _write_csv(r, out / (f"timeseries_{label}.csv" if len(labels) > 1 else "timeseries.csv"))
         if args.scene == "paper2016":
-            paths = plot.paper_figures(results, out, labels=labels)
+            # Drawn into a temporary directory beside the figures, then each renamed into place.
+            with tempfile.TemporaryDirectory(dir=out, prefix=".figures-") as tmp:
+                paths = [out / p.name for p in plot.paper_figures(results, tmp, labels=labels)]
+                for p in paths:
+                    _atomic.replace(Path(tmp) / p.name, p)
         else:
             fig = plot.node_deflection(results, labels=labels, series="tip_deflection")
             paths = [out / "tip_deflection.png"]
-            fig.savefig(paths[0], dpi=150)
+            with _atomic.atomic_path(paths[0]) as tmp:
+                fig.savefig(tmp, dpi=150)
         if not args.json:
             print(f"wrote {out / 'summary.json'}, the time series and {len(paths)} figures")
     failed = [r for r in results if r.failure]

@@ -37,8 +37,25 @@ _KINDS = {
 }
 
 
-def _broadcast(*args) -> tuple[tuple[int, ...], list]:
-    arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in args))
+def _broadcast(**args) -> tuple[tuple[int, ...], list]:
+    """The arguments as flat float arrays of one broadcast shape; ValueError naming the argument
+    for a non-finite entry (a NaN in would be a NaN out), TypeError for a non-number."""
+    arrays = []
+    for name, a in args.items():
+        try:
+            a = np.asarray(a, dtype=float)
+        except (TypeError, ValueError) as e:
+            raise TypeError(f"{name} must be a real number or an array of them, got {a!r}") from e
+        bad = ~np.isfinite(a)
+        if bad.any():
+            first = float(a[bad].flat[0]) if a.ndim else float(a)
+            raise ValueError(f"{name} = {first!r} is out of range: must be finite")
+        arrays.append(a)
+    try:
+        arrays = np.broadcast_arrays(*arrays)
+    except ValueError as e:
+        shapes = ", ".join(f"{k} {np.shape(a)}" for k, a in zip(args, arrays))
+        raise ValueError(f"the arguments do not broadcast together: {shapes}") from e
     return arrays[0].shape, [np.ascontiguousarray(a).ravel() for a in arrays]
 
 
@@ -71,6 +88,9 @@ class ContactLaw:
     _impl: _core.ContactLaw = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.kind, str):
+            raise TypeError(f"contact.kind must be a string, got {type(self.kind).__name__} "
+                            f"{self.kind!r}")
         if self.kind not in _KINDS:
             kinds = ", ".join(map(repr, _KINDS))
             raise ValueError(f"contact.kind = {self.kind!r} is not one of {kinds}")
@@ -94,7 +114,7 @@ class ContactLaw:
                 raise ValueError(f"v0 (approach speed at contact onset, m/s) is required by "
                                  f"{self.kind}")
             v0 = 0.0
-        shape, (d, dd, v) = _broadcast(delta, delta_dot, v0)
+        shape, (d, dd, v) = _broadcast(delta=delta, delta_dot=delta_dot, v0=v0)
         return _shaped(shape, self._impl.force_many(d, dd, v))
 
 
@@ -122,7 +142,7 @@ class Friction:
         """Tangential force F_t (N) and its derivatives dF_t/dv_t (N s/m) and dF_t/dF_n, at slip
         velocity ``v_t`` (m/s) and normal force ``F_n`` (N; <= 0 gives no friction). Arguments
         broadcast; scalars in give floats out."""
-        shape, (v, n) = _broadcast(v_t, F_n)
+        shape, (v, n) = _broadcast(v_t=v_t, F_n=F_n)
         return _shaped(shape, self._impl.force_many(v, n))
 
 
@@ -166,9 +186,14 @@ def impact(law: ContactLaw, mass_kg: float, v0_m_s: float, dt_s: float | None = 
     """Integrate m delta'' = -F(delta, delta') from first contact (delta = 0, delta' = v0) to
     separation, in C++ with RK4 and the turning point and separation located to round-off.
 
-    ``dt_s`` defaults to T / 4000 (T = :func:`impact_time_scale`; at most T / 10 is accepted);
+    ``dt_s`` defaults to T / 4000 (T = :func:`impact_time_scale`; T / 1e5 to T / 10 accepted);
     the error is O((dt/T)^4) for n = 1 and O((dt/T)^2.5) for n = 1.5 (delta^n is not smooth at
     onset): ~1e-11 relative on restitution, penetration and duration at the default step.
+
+    A contact that lasts longer than 1000 T is not integrated (ValueError naming the law's K, D
+    and e): the law's damping then holds the mass in the contact and its spring is too weak to
+    push it out in any useful time. Nor is one needing more than 10^7 steps (a ``dt_s`` far below
+    the default). Ctrl-C interrupts a long run (KeyboardInterrupt).
     """
     _check_law(law)
     m, v0 = as_float("mass_kg", mass_kg), as_float("v0_m_s", v0_m_s)

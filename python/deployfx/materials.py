@@ -6,6 +6,7 @@ Sec. 2.3-3.4; Jones, *Mechanics of Composite Materials* (1999), Sec. 2.4.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Sequence, Union
 
@@ -103,15 +104,19 @@ class Ply:
                 "Ply.material must be deployfx.Isotropic or deployfx.Orthotropic, "
                 f"got {type(self.material).__name__}"
             )
-        as_float("Ply.thickness", self.thickness)
-        as_float("Ply.angle_deg", self.angle_deg)
+        t, a = as_float("Ply.thickness", self.thickness), as_float("Ply.angle_deg", self.angle_deg)
+        if not (math.isfinite(t) and t > 0):
+            raise ValueError(f"Ply.thickness = {t!r} is out of range: must be > 0 (m)")
+        if not math.isfinite(a):
+            raise ValueError(f"Ply.angle_deg = {a!r} is out of range: must be finite (degrees)")
 
     def _to_core(self) -> _core.Ply:
         return _core.Ply(self.material._impl, float(self.thickness), float(self.angle_deg))
 
     def Q_bar(self) -> np.ndarray:
         """In-plane reduced stiffness of the rotated ply in laminate axes (3x3), Pa."""
-        return _readonly(self.material._impl.Q_bar(np.deg2rad(self.angle_deg)))
+        # One turn first (fmod is exact): deg2rad(1.7e308) overflows to inf (issue 29).
+        return _readonly(self.material._impl.Q_bar(np.deg2rad(math.fmod(self.angle_deg, 360.0))))
 
 
 class Laminate:
@@ -123,6 +128,9 @@ class Laminate:
     """
 
     def __init__(self, plies: Sequence[Ply]):
+        if isinstance(plies, (str, bytes)) or not hasattr(plies, "__iter__"):
+            raise TypeError(f"Laminate.plies must be a sequence of deployfx.Ply, "
+                            f"got {type(plies).__name__} {plies!r}")
         plies = tuple(plies)
         for i, p in enumerate(plies):
             if not isinstance(p, Ply):

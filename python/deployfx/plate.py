@@ -13,7 +13,7 @@ import numpy as np
 import scipy.sparse
 
 from . import _core
-from ._checks import as_float, as_int
+from ._checks import as_float, as_int, as_int_sequence
 from .materials import Laminate
 
 _EDGE_HELP = "four letters from C, S, F for the edges x=0, y=0, x=length, y=width"
@@ -22,6 +22,46 @@ _EDGE_HELP = "four letters from C, S, F for the edges x=0, y=0, x=length, y=widt
 def _frequencies_hz(eigenvalues: np.ndarray) -> np.ndarray:
     # Rigid-body modes come out at round-off, of either sign: they are 0 Hz.
     return np.sqrt(np.clip(eigenvalues, 0.0, None)) / (2.0 * np.pi)
+
+
+def _count(name: str, value: object) -> int:
+    """An int that the core's 32-bit ints hold (the core checks the range it needs)."""
+    v = as_int(name, value)
+    if not -2**31 <= v < 2**31:
+        raise ValueError(f"{name} = {v} is out of range: must be a 32-bit integer")
+    return v
+
+
+def _dofs(name: str, dofs: object, ndof: int) -> list:
+    """``dofs`` as a list of ints in [0, ndof), or TypeError/ValueError naming ``name`` (a float
+    such as 1.5 is refused, not truncated)."""
+    out = as_int_sequence(name, dofs)
+    for k, d in enumerate(out):
+        if not 0 <= d < ndof:
+            raise ValueError(f"{name}[{k}] = {d} is out of range: must be in [0, {ndof - 1}] "
+                             f"(6 dofs per node)")
+    return out
+
+
+def _finite(name: str, a: np.ndarray, why: str) -> np.ndarray:
+    """``a`` if every entry is finite, else ValueError naming ``name``."""
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} leaves the finite doubles: {why}")
+    return a
+
+
+def _vector(name: str, u: object, ndof: int) -> np.ndarray:
+    """``u`` as a finite float vector of size ndof, or ValueError/TypeError naming ``name``."""
+    try:
+        u = np.asarray(u, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name} must be an array of {ndof} real numbers: {e}") from None
+    if u.shape != (ndof,):
+        raise ValueError(f"{name} must have shape ({ndof},) (6 dofs per node), got {u.shape}")
+    bad = np.flatnonzero(~np.isfinite(u))
+    if bad.size:
+        raise ValueError(f"{name}[{bad[0]}] = {float(u[bad[0]])!r} is out of range: must be finite")
+    return u
 
 
 def _laminate(obj: object) -> Laminate:
@@ -42,14 +82,30 @@ class ShellModel:
     """
 
     def __init__(self, nodes, quads, laminate: Laminate, ref_axis: Sequence[float] = (1.0, 0.0, 0.0)):
-        nodes = np.asarray(nodes, dtype=float)
+        try:
+            nodes = np.asarray(nodes, dtype=float)
+        except (TypeError, ValueError) as e:
+            raise TypeError(f"nodes must be an (n, 3) array of coordinates (m): {e}") from None
         quads = np.asarray(quads)
         if nodes.ndim != 2 or nodes.shape[1] != 3:
             raise ValueError(f"nodes must have shape (n, 3), got {nodes.shape}")
         if quads.ndim != 2 or quads.shape[1] != 4 or not np.issubdtype(quads.dtype, np.integer):
             raise ValueError(f"quads must be integers of shape (e, 4), got {quads.dtype} {quads.shape}")
+        if quads.size:
+            # Checked before the cast to the core's int32, which would wrap 2**32 + 3 to 3.
+            bad = np.argwhere((quads < 0) | (quads >= len(nodes)))
+            if bad.size:
+                e, a = bad[0]
+                raise ValueError(f"quads[{e}, {a}] = node {quads[e, a]} is out of range: must be "
+                                 f"in [0, {len(nodes) - 1}] (the nodes given)")
         self.laminate = _laminate(laminate)
-        self.ref_axis = np.array(ref_axis, dtype=float)  #: the 0-degree direction given (world axes)
+        try:
+            ref = np.array(ref_axis, dtype=float)  #: the 0-degree direction given (world axes)
+        except (TypeError, ValueError) as e:
+            raise TypeError(f"ref_axis must be 3 real numbers: {e}") from None
+        if ref.shape != (3,) or not np.all(np.isfinite(ref)):
+            raise ValueError(f"ref_axis must be 3 finite numbers (a direction), got {ref_axis!r}")
+        self.ref_axis = ref
         self._impl = _core.ShellModel(nodes, quads.astype(np.int32), laminate._impl, self.ref_axis)
 
     @classmethod
@@ -89,7 +145,11 @@ class ShellModel:
 
     def pressure_load(self, pressure: float) -> np.ndarray:
         """Nodal forces (ndof) of a uniform pressure (Pa) along each element normal."""
-        return self._impl.pressure_load(as_float("pressure", pressure))
+        p = as_float("pressure", pressure)
+        if not np.isfinite(p):
+            raise ValueError(f"pressure = {p!r} is out of range: must be finite (Pa)")
+        return _finite("the pressure load", self._impl.pressure_load(p),
+                       f"pressure = {p!r} Pa is too large")
 
     def geometric_stiffness(self, N: Sequence[float]) -> scipy.sparse.csc_matrix:
         """K_s (Eq. 22) for uniform membrane resultants ``N = (N_x, N_y, N_xy)`` in N/m."""
@@ -100,15 +160,22 @@ class ShellModel:
 
     def geometric_stiffness_from(self, u: np.ndarray) -> scipy.sparse.csc_matrix:
         """K_s with the membrane resultants of the linear strains of displacement ``u``."""
-        return self._impl.geometric_stiffness_from(np.asarray(u, dtype=float))
+        K = self._impl.geometric_stiffness_from(_vector("u", u, self.num_dofs))
+        _finite("K_s", K.data, "the displacements u are too large")
+        return K
 
     def strain_energy(self, u: np.ndarray) -> float:
         """Strain energy (J) with the Green membrane strain of Eq. 14."""
-        return self._impl.strain_energy(np.asarray(u, dtype=float))
+        U = self._impl.strain_energy(_vector("u", u, self.num_dofs))
+        return float(_finite("the strain energy", np.float64(U),
+                             "the displacements u are too large"))
 
     def internal_force(self, u: np.ndarray) -> Tuple[np.ndarray, scipy.sparse.csc_matrix]:
         """Internal force ``dU/du`` (ndof) and tangent ``K_L + K_L* + K_s`` at ``u``."""
-        return self._impl.internal_force(np.asarray(u, dtype=float))
+        f, K = self._impl.internal_force(_vector("u", u, self.num_dofs))
+        _finite("the internal force", f, "the displacements u are too large")
+        _finite("the tangent stiffness", K.data, "the displacements u are too large")
+        return f, K
 
     def floating_frame_inertia(self) -> "_core.FloatingFrameInertia":
         """The inertia shape integrals of this mesh as a body in a floating frame (You et al.
@@ -123,12 +190,14 @@ class ShellModel:
 
         Returns frequencies (n,) in Hz, ascending, and mass-normalised shapes (ndof, n).
         """
-        r = self._impl.modes(as_int("n", n), [int(d) for d in fixed_dofs])
+        r = self._impl.modes(_count("n", n), _dofs("fixed_dofs", fixed_dofs, self.num_dofs))
         return _frequencies_hz(r.eigenvalues), r.modes
 
     def static(self, load: np.ndarray, fixed_dofs: Sequence[int]) -> np.ndarray:
         """Displacements (ndof) solving ``K u = load`` with ``fixed_dofs`` held at zero."""
-        return self._impl.static_solve(np.asarray(load, dtype=float), [int(d) for d in fixed_dofs])
+        u = self._impl.static_solve(_vector("load", load, self.num_dofs),
+                                    _dofs("fixed_dofs", fixed_dofs, self.num_dofs))
+        return _finite("the displacements", u, "the load is too large")
 
 
 class Plate:
@@ -145,7 +214,7 @@ class Plate:
     def __init__(self, length: float, width: float, laminate: Laminate, nx: int, ny: int):
         self.laminate = _laminate(laminate)
         self._impl = _core.RectangularPlate(as_float("length", length), as_float("width", width),
-                                            laminate._impl, as_int("nx", nx), as_int("ny", ny))
+                                            laminate._impl, _count("nx", nx), _count("ny", ny))
         self.length, self.width = float(length), float(width)
         self.nx, self.ny = int(nx), int(ny)
         self.model = ShellModel._wrap(self._impl.model, laminate)
@@ -180,14 +249,15 @@ class Plate:
     def modes(self, n: int, boundary: str) -> Tuple[np.ndarray, np.ndarray]:
         """Frequencies (n,) in Hz and transverse mode shapes w, shape (n, ny+1, nx+1),
         mass-normalised."""
-        r = self._impl.modes(as_int("n", n), self._boundary(boundary))
+        r = self._impl.modes(_count("n", n), self._boundary(boundary))
         w = r.modes[2::6, :].T.reshape(-1, self.ny + 1, self.nx + 1)
         return _frequencies_hz(r.eigenvalues), w
 
     def static(self, pressure: float, boundary: str) -> np.ndarray:
         """Transverse displacement w (m) at the nodes, shape (ny+1, nx+1), under a uniform
         pressure (Pa) along +z."""
-        return self._impl.static_deflection(as_float("pressure", pressure), self._boundary(boundary))
+        w = self._impl.static_deflection(as_float("pressure", pressure), self._boundary(boundary))
+        return _finite("the deflection", w, f"pressure = {pressure!r} Pa is too large")
 
     @staticmethod
     def _boundary(boundary: object) -> str:

@@ -16,6 +16,9 @@ Optional parts are simply left out (TOML has no null)::
     schema = "deployfx.scene"            # required
     version = 3                          # required: the schema version
     units = "SI ..."                     # informative only
+    content_sha256 = "..."               # written by save_scene: SHA-256 of the rest in
+                                         #   canonical JSON; load_scene refuses a file that does
+                                         #   not match (truncated or changed); optional
 
     [base]                               # Scene.set_base
     free = true                          # false: fixed to the ground
@@ -79,6 +82,7 @@ errors are prefixed with the file's table when they do not name it (``hinges[0].
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 from pathlib import Path
@@ -86,6 +90,7 @@ from typing import Any, Union
 
 import numpy as np
 
+from . import _atomic
 from ._scene_read import scene_from_dict
 from ._scene_schema import _ISOTROPIC, _MATERIAL_UNITS, _ORTHOTROPIC, _UNITS, SCHEMA, VERSION, VERSIONS_READ
 from .materials import Isotropic, Orthotropic
@@ -206,12 +211,30 @@ def _json(value: Any, indent: str = "") -> str:
     return json.dumps(value, allow_nan=False)
 
 
+_CHECK_KEY = "content_sha256"
+
+
+def _content_digest(d: Mapping[str, Any]) -> str:
+    """SHA-256 (hex) of a scene dict without its check, in a canonical JSON form that JSON and
+    TOML files give back identically (floats in shortest round-trip form, keys sorted)."""
+    body = {k: v for k, v in d.items() if k != _CHECK_KEY}
+    text = json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
 def save_scene(scene: Scene, path: PathLike) -> Path:
     """Write ``scene`` (a :class:`Scene`, or a ready scene with ``.scene``) to ``path``
     (``.json`` or ``.toml``, by suffix; UTF-8) in the schema above and return the path. TOML is
-    written with the ``tomli-w`` package."""
+    written with the ``tomli-w`` package.
+
+    The file carries ``content_sha256`` (a top-level key, after ``version``): the SHA-256 of its
+    content in canonical JSON, which :func:`load_scene` checks. The write is atomic (a temporary
+    file beside ``path``, fsync'ed and renamed over it): a failed or killed save leaves the
+    previous file as it was."""
     fmt = _format(path)
     d = scene_to_dict(scene)
+    head = {k: d[k] for k in ("schema", "version", "units")}
+    d = {**head, _CHECK_KEY: _content_digest(d), **{k: v for k, v in d.items() if k not in head}}
     if fmt == "json":
         text = _json(d) + "\n"
     else:
@@ -219,26 +242,51 @@ def save_scene(scene: Scene, path: PathLike) -> Path:
 
         text = tomli_w.dumps(d)
     path = Path(path)
-    path.write_text(text, encoding="utf-8")
+    _atomic.write_text(path, text, encoding="utf-8")
     return path
 
 
 def load_scene(path: PathLike) -> Scene:
     """Read a scene written by :func:`save_scene` (or by hand) from ``path`` (``.json`` or
     ``.toml``). Raises ValueError naming the bad key or parameter (see :func:`scene_from_dict`),
-    or for a file that is not valid JSON/TOML."""
+    or naming the file if it is not valid UTF-8 JSON/TOML or its content does not match its
+    ``content_sha256`` (truncated, e.g. cut at a table boundary, or edited after it was saved:
+    after an intended edit by hand, delete the ``content_sha256`` line). A file without
+    ``content_sha256`` (written by hand, or before deployfx wrote the check) is read unchecked."""
+    return scene_from_dict(read_scene_dict(path))
+
+
+def read_scene_dict(path: PathLike) -> Any:
+    """A scene file's content as read (:func:`read_file`), its ``content_sha256`` checked and
+    removed (ValueError naming the file on a mismatch); not yet validated as a scene."""
+    path = Path(path)
+    d = read_file(path)
+    if isinstance(d, dict) and _CHECK_KEY in d:
+        stored = d.pop(_CHECK_KEY)
+        try:
+            actual = _content_digest(d)
+        except (TypeError, ValueError):  # content JSON cannot hold (TOML dates, inf)
+            actual = None
+        if stored != actual:
+            raise ValueError(f"{path} is truncated or was changed after it was saved: its content "
+                             f"does not match its {_CHECK_KEY} (if you edited it on purpose, "
+                             f"delete the {_CHECK_KEY} line)")
+    return d
+
+
+def read_file(path: PathLike) -> Any:
+    """The content of a ``.json`` or ``.toml`` file (by suffix; UTF-8), with ValueError naming the
+    file if it is not valid."""
     fmt = _format(path)
     path = Path(path)
     try:
         if fmt == "json":
-            d = json.loads(path.read_text(encoding="utf-8"))
-        else:
-            try:
-                import tomllib
-            except ModuleNotFoundError:  # Python < 3.11
-                import tomli as tomllib
-            with path.open("rb") as f:
-                d = tomllib.load(f)
-    except (json.JSONDecodeError, ValueError) as e:  # TOMLDecodeError is a ValueError
+            return json.loads(path.read_text(encoding="utf-8"))
+        try:
+            import tomllib
+        except ModuleNotFoundError:  # Python < 3.11
+            import tomli as tomllib
+        with path.open("rb") as f:
+            return tomllib.load(f)
+    except (json.JSONDecodeError, ValueError) as e:  # TOMLDecodeError, UnicodeDecodeError too
         raise ValueError(f"{path} is not a valid {fmt.upper()} file: {e}") from e
-    return scene_from_dict(d)

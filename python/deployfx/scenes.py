@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Optional
+from typing import Optional, Sequence, Union
 
 import numpy as np
 
 from . import paper2016 as _paper
+from ._checks import check_field_types
 from .contact import ContactLaw, Friction
 from .integrators import GeneralizedAlpha, SimulationError
 from .materials import Isotropic, Laminate, Ply
@@ -87,7 +88,10 @@ class Paper2016Parameters:
     wings: int = 1
     #: The plies' strength allowables (deployfx.Strengths, Pa) for the ply failure envelope
     #: (``simulate(..., stresses=True)``); the paper gives none for IM6/SC1081, nor does deployfx.
-    strengths: Optional[Strengths] = None
+    strengths: Union[Strengths, Sequence[Strengths], None] = None  #: one for all plies, or one per ply
+
+    def __post_init__(self) -> None:
+        check_field_types(self)  # lock='no' is an error, not a lock (issue 29)
 
 
 class Paper2016Scene:

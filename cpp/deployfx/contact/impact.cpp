@@ -64,9 +64,20 @@ double impact_time_scale(const ContactLaw& law, double mass, double v0) {
   // q(c) = (c - ln(1 + c)) / c^2 -> 1/2 as c -> 0 (undamped Hertz).
   const double c = law.hysteresis_factor();
   const double q = c < 1e-3 ? 0.5 - c / 3.0 + c * c / 4.0 : (c - std::log1p(c)) / (c * c);
+  // In logarithms: m v0^2 / K alone can leave the doubles when T itself does not.
   const double n1 = law.n() + 1.0;
-  double T = std::pow(n1 * mass * v0 * v0 * q / law.K(), 1.0 / n1) / v0;
+  double T = std::exp((std::log(n1 * q) + std::log(mass) + 2.0 * std::log(v0) - std::log(law.K())) / n1 -
+                      std::log(v0));
   if (law.D() > 0.0) T = std::min(T, mass / law.D());
+  // A step of T / 1e4 must still be a normal double.
+  if (!(std::isfinite(T) && T / 1e4 >= std::numeric_limits<double>::min())) {
+    std::ostringstream m;
+    m.precision(6);
+    m << "impact: the contact time scale T = " << T << " s is outside the doubles' range for "
+      << "impact.mass = " << mass << " kg, impact.v0 = " << v0 << " m/s, contact.K = " << law.K()
+      << ", contact.n = " << law.n() << ", contact.D = " << law.D();
+    throw std::invalid_argument(m.str());
+  }
   return T;
 }
 
@@ -78,12 +89,15 @@ double rebound_time_scale(const ContactLaw& law, double mass, double v0) {
 }
 
 ImpactResult simulate_impact(const ContactLaw& law, double mass, double v0, double dt,
-                             bool record, long max_steps) {
+                             bool record, long max_steps, const std::function<void()>& poll) {
   const double T = impact_time_scale(law, mass, v0);
   require_positive("impact.dt", dt, "(s)");
-  if (dt > 0.1 * T) {
+  if (dt > 0.1 * T || dt < 1e-5 * T) {
+    // Below T/1e5, RK4's error (dt/T)^2.5 <= 3e-13 is under the round-off its 1e5+ steps add.
     std::ostringstream r;
-    r << "<= T/10 = " << 0.1 * T << " s (T = impact time scale: the contact needs many steps)";
+    r << "in [T/1e5, T/10] = [" << 1e-5 * T << ", " << 0.1 * T
+      << "] s (T = impact time scale: the contact needs many steps, and smaller steps only add "
+         "round-off)";
     throw_out_of_range("impact.dt", dt, r.str());
   }
   if (max_steps < 1) throw_out_of_range("impact.max_steps", double(max_steps), ">= 1");
@@ -104,12 +118,23 @@ ImpactResult simulate_impact(const ContactLaw& law, double mass, double v0, doub
     r.force.push_back(fq);
   };
   push(s, f);
+  const double t_max = kMaxContactDurationT * T;
   for (;;) {
-    if (r.steps >= max_steps) {
+    if (r.steps >= max_steps || t > t_max) {
       std::ostringstream m;
-      m << "simulate_impact: no separation after " << max_steps << " steps (t = " << t << " s)";
-      throw std::runtime_error(m.str());
+      m.precision(6);
+      m << "impact: the mass has not separated after " << r.steps << " steps, t = " << t
+        << " s = " << t / T << " T (T = " << T << " s, the impact time scale): ";
+      if (t > t_max)
+        m << "the law's damping (contact.D = " << law.D() << " N s/m, contact.e = " << law.e()
+          << ") stops the mass inside the contact and its spring (contact.K = " << law.K()
+          << ") is too weak to push it out; contacts longer than " << kMaxContactDurationT
+          << " T are not integrated";
+      else
+        m << "impact.dt = " << dt << " s is too small for max_steps = " << max_steps;
+      throw std::invalid_argument(m.str());
     }
+    if (poll && (r.steps & 0xFFFF) == 0xFFFF) poll();
     double h = dt;
     State next = impact.rk4(s, h);
     const bool separated = !in_contact(next);
@@ -124,10 +149,20 @@ ImpactResult simulate_impact(const ContactLaw& law, double mass, double v0, doub
     r.max_penetration = std::max(r.max_penetration, next.x);
     f = impact.force(next);
     // An interior maximum f1 of three equally spaced samples: the vertex of their parabola.
-    const double curvature = 2.0 * f1 - f2 - f;
+    // The vertex lies f1 + d^2 / (8 c) with |d| = |f - f2| <= c = 2 f1 - f2 - f: the rise is at
+    // most |d| / 8, computed as d (d / 8c) so that it cannot overflow.
+    const double curvature = (f1 - f2) + (f1 - f), d = f - f2;
     if (r.steps > 0 && !separated && f1 >= f2 && f1 >= f && curvature > 0.0)
-      r.peak_force = std::max(r.peak_force, f1 + (f - f2) * (f - f2) / (8.0 * curvature));
+      r.peak_force = std::max(r.peak_force, f1 + d * (d / (8.0 * curvature)));
     r.peak_force = std::max(r.peak_force, f);
+    if (!(r.peak_force < std::numeric_limits<double>::max())) {
+      std::ostringstream m;
+      m << "impact: the contact force reaches the largest double (" << r.peak_force
+        << " N): the law (contact.K = " << law.K() << ", contact.n = " << law.n()
+        << "), impact.mass = " << mass << " kg and impact.v0 = " << v0
+        << " m/s give a force beyond what can be computed";
+      throw std::invalid_argument(m.str());
+    }
     f2 = f1;
     f1 = f;
     t += h;
@@ -138,7 +173,13 @@ ImpactResult simulate_impact(const ContactLaw& law, double mass, double v0, doub
   }
   r.restitution = -s.v / v0;
   r.contact_duration = t;
-  r.energy_lost = 0.5 * mass * (v0 * v0 - s.v * s.v);
+  r.energy_lost = 0.5 * mass * ((v0 - s.v) * (v0 + s.v));
+  if (!std::isfinite(r.energy_lost)) {
+    std::ostringstream m;
+    m << "impact: the energy m v0^2 / 2 overflows the doubles (impact.mass = " << mass
+      << " kg, impact.v0 = " << v0 << " m/s)";
+    throw std::invalid_argument(m.str());
+  }
   return r;
 }
 

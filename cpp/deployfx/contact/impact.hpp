@@ -10,6 +10,7 @@
 // n = 1, O((dt/T)^2.5) for the Hertz exponent n = 3/2 (delta^n is not smooth at onset), with
 // T = impact_time_scale(); at dt = T/4000, restitution, penetration and duration come out to
 // ~1e-11 relative (tests/test_contact_laws.py: closed forms and scipy's DOP853).
+#include <functional>
 #include <vector>
 
 #include "deployfx/contact/force_law.hpp"
@@ -36,9 +37,19 @@ double impact_time_scale(const ContactLaw& law, double mass, double v0);
 /// 0.1 delta_H / v0; the restitution is then below 0.6 %: 0.5 % at 0.11, 0.06 % at 0.046).
 double rebound_time_scale(const ContactLaw& law, double mass, double v0);
 
-/// mass > 0 (kg), v0 > 0 (m/s), dt > 0 (s). Throws std::invalid_argument for bad input and
-/// std::runtime_error if the mass has not separated after max_steps steps.
+/// A contact longer than this many impact time scales T is not integrated: a law whose damping
+/// stops the mass inside the contact and whose spring is too weak to push it out in any useful
+/// time (an overdamped Kelvin-Voigt law with a negligible K, a Flores law with e -> 0) would creep
+/// for up to ~1e300 s. Well-posed contacts last a few T (undamped Hertz: 2.94 T; an overdamped
+/// linear Kelvin-Voigt law of damping ratio zeta: ~4 zeta^2 T, so up to zeta ~ 15).
+constexpr double kMaxContactDurationT = 1000.0;
+
+/// mass > 0 (kg), v0 > 0 (m/s), dt in [T/1e5, T/10] (s). Throws std::invalid_argument for bad input, for a
+/// contact that lasts beyond kMaxContactDurationT time scales or max_steps steps (the message
+/// names the law's parameters, mass and dt), or when the force or the result leaves the finite
+/// doubles. `poll` (if set) is called every 2^16 steps; it may throw to interrupt the run.
 ImpactResult simulate_impact(const ContactLaw& law, double mass, double v0, double dt,
-                             bool record = false, long max_steps = 100'000'000);
+                             bool record = false, long max_steps = 10'000'000,
+                             const std::function<void()>& poll = {});
 
 }  // namespace deployfx::contact

@@ -48,9 +48,9 @@ Eigen::VectorXd static_solve(const Eigen::SparseMatrix<double>& K, const Eigen::
   // A singular K shows as a pivot at round-off level relative to the largest.
   const Eigen::VectorXd D = ldlt.info() == Eigen::Success ? ldlt.vectorD() : Eigen::VectorXd();
   if (D.size() == 0 || !(D.minCoeff() > 1e-12 * D.cwiseAbs().maxCoeff()))
-    throw std::runtime_error(
-        "static solve: the stiffness is singular; the boundary conditions leave a rigid-body motion "
-        "(fix more edges)");
+    throw std::invalid_argument(
+        "static solve: fixed_dofs (the boundary) leave a rigid-body motion: the stiffness of the "
+        "free dofs is singular (fix more dofs or edges)");
   const Eigen::VectorXd u_free = ldlt.solve(f_free);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(K.rows());
   for (std::size_t k = 0; k < keep.size(); ++k) u(keep[k]) = u_free(k);

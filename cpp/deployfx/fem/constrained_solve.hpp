@@ -14,7 +14,7 @@ std::vector<int> free_dofs(int ndof, const std::vector<int>& fixed);
 /// A restricted to the rows and columns `keep`.
 Eigen::SparseMatrix<double> restrict(const Eigen::SparseMatrix<double>& A, const std::vector<int>& keep);
 
-/// Solves K u = f with u = 0 on `fixed`. Throws std::runtime_error if the constrained K is
+/// Solves K u = f with u = 0 on `fixed`. Throws std::invalid_argument if the constrained K is
 /// singular (the constraints leave a rigid-body motion).
 Eigen::VectorXd static_solve(const Eigen::SparseMatrix<double>& K, const Eigen::VectorXd& f,
                              const std::vector<int>& fixed);

@@ -25,8 +25,10 @@ struct ModalResult {
 /// negative sigma certified safe for the LDL^T (free structures).
 /// `tol` bounds each pair's residual ||Op x - nu x||_M <= tol nu, Op = (K - sigma M)^-1 M.
 /// Eigenvalues are sigma + 1/nu and are not clamped: rigid-body modes come out at round-off, of
-/// either sign. Each mode has its largest-magnitude component positive. When nearly every pair is
-/// wanted (n > ndof - 12, beyond what blocks of 6 can span) the dense generalised solver answers.
+/// either sign. Each mode has its largest-magnitude component positive. When the Lanczos basis
+/// would span the whole space (max(3 n, 2 n + 60) >= ndof), or when it cannot grow because the
+/// eigenvalues still wanted lie beyond ~1e12 times the shift (round-off), the dense generalised
+/// solver answers (up to ndof = 3000; beyond, std::invalid_argument naming n).
 /// Throws std::invalid_argument (message names the parameter, value and allowed range) for bad
 /// input: n < 1 or n > ndof, non-square or mismatched sizes, non-finite entries, asymmetric K or
 /// M, a non-positive diagonal of M, tol outside [1e-14, 1e-2], a non-finite shift.

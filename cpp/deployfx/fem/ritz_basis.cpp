@@ -139,7 +139,9 @@ RitzBasis ritz_basis(const ShellModel& model, const std::vector<int>& fixed,
   if (n_extra > 0) {
     K_inv.compute(K);
     if (K_inv.info() != Eigen::Success || !(K_inv.vectorD().minCoeff() > 0))
-      throw std::runtime_error("ritz_basis: the clamped stiffness is singular (fix more dofs)");
+      throw std::invalid_argument(
+          "ritz_basis: fixed_dofs leave a rigid-body motion of the appendage: its clamped "
+          "stiffness is singular (fix more dofs, e.g. the root edge)");
   }
   int n_static = 0, n_deriv = 0;
   if (options.static_correction && inertial_loads.cols() > 0) {

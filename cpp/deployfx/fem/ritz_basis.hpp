@@ -34,7 +34,7 @@ struct RitzBasis {
 
 /// `inertial_loads`: (ndof x m) load shapes for the static correction (ignored without it).
 /// Throws std::invalid_argument for modes out of [1, free dofs] or derivative_modes out of
-/// [0, modes], std::runtime_error if the clamped stiffness is singular.
+/// [0, modes] or fixed dofs that leave the clamped stiffness singular.
 RitzBasis ritz_basis(const ShellModel& model, const std::vector<int>& fixed,
                      const RitzBasisOptions& options, const Eigen::MatrixXd& inertial_loads);
 

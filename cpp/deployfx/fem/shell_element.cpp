@@ -1,6 +1,7 @@
 #include "deployfx/fem/shell_element.hpp"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -103,6 +104,17 @@ ShellElement::ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::
   const Eigen::Vector3d d13 = (X_W.row(2) - X_W.row(0)).transpose();
   const Eigen::Vector3d d24 = (X_W.row(3) - X_W.row(1)).transpose();
   const double size = std::max(d13.norm(), d24.norm());
+  // Slenderness: beyond these size / thickness ratios the membrane and bending stiffnesses
+  // (~ A and D / size^2, D / A = h^2 / 12) differ by more than ~1e13 and the element matrices
+  // carry no digit of the weaker one (the paper's elements: size / h = 400).
+  const double h = laminate.thickness();
+  if (!(size >= kMinSlenderness * h && size <= kMaxSlenderness * h)) {
+    std::ostringstream e;
+    e << "ShellElement: the element's diagonal " << size << " m is out of range: must be in ["
+      << kMinSlenderness << ", " << kMaxSlenderness << "] x the laminate thickness h = " << h
+      << " m";
+    throw std::invalid_argument(e.str());
+  }
   Eigen::Vector3d n = d13.cross(d24);
   if (!(n.norm() > 1e-12 * size * size))
     throw std::invalid_argument("ShellElement: degenerate quadrilateral (zero area)");

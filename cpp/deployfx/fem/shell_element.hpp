@@ -28,6 +28,8 @@ using RowOp = Eigen::Matrix<double, 1, kElementDofs>;
 
 class ShellElement {
  public:
+  /// Accepted element diagonal / laminate thickness (std::invalid_argument outside).
+  static constexpr double kMinSlenderness = 1e-3, kMaxSlenderness = 1e6;
   /// Fraction of A66 used as the drilling penalty modulus (Hughes-Brezzi gamma).
   static constexpr double kDrillingPenalty = 1e-3;
 

@@ -13,7 +13,7 @@ Laminate::Laminate(std::vector<Ply> plies) : plies_(std::move(plies)) {
     throw std::invalid_argument("Laminate.plies is empty: a laminate needs at least one ply");
   for (std::size_t k = 0; k < plies_.size(); ++k) {
     const std::string p = "Laminate.plies[" + std::to_string(k) + "]";
-    require_positive(p + ".thickness", plies_[k].thickness, "(m)");
+    require_magnitude(p + ".thickness", plies_[k].thickness, "(m)");
     require_finite(p + ".angle_deg", plies_[k].angle_deg, "(degrees)");
     h_ += plies_[k].thickness;
   }
@@ -25,7 +25,8 @@ Laminate::Laminate(std::vector<Ply> plies) : plies_(std::move(plies)) {
   for (const Ply& ply : plies_) {
     const double z0 = z_.back(), z1 = z0 + ply.thickness;
     z_.push_back(z1);
-    const double theta = ply.angle_deg * M_PI / 180.0;
+    // Reduced to one turn first (fmod is exact): angle_deg * pi overflows beyond 5.7e307 deg.
+    const double theta = std::fmod(ply.angle_deg, 360.0) * M_PI / 180.0;
     const Eigen::Matrix3d Qb = ply.material.Q_bar(theta);
     const double d1 = z1 - z0, d2 = (z1 * z1 - z0 * z0) / 2, d3 = (z1 * z1 * z1 - z0 * z0 * z0) / 3;
     // Reddy 2004 Eq. 3.3.17 and 3.4.29.

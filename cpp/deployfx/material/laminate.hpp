@@ -21,7 +21,8 @@ class Laminate {
   /// energy-equivalent value for a homogeneous section (Reissner 1945; Reddy 2004 Eq. 3.4.29).
   static constexpr double kShearCorrection = 5.0 / 6.0;
 
-  /// Throws std::invalid_argument for an empty lay-up, a non-positive thickness or a
+  /// Throws std::invalid_argument for an empty lay-up, a thickness outside [1e-50, 1e50] m
+  /// (check.hpp; with the materials' range, A, B, D then stay finite and non-zero) or a
   /// non-finite angle.
   explicit Laminate(std::vector<Ply> plies);
 

@@ -1,6 +1,7 @@
 #include "deployfx/material/orthotropic.hpp"
 
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "deployfx/math/check.hpp"
@@ -14,9 +15,10 @@ Orthotropic::Orthotropic(double E1, double E2, double G12, double G13, double G2
 }
 
 Orthotropic Orthotropic::isotropic(double E, double nu, double rho) {
-  require_positive("Isotropic.E", E, "(Pa)");
-  require_open_interval("Isotropic.nu", nu, -1.0, 0.5);
-  require_positive("Isotropic.rho", rho, "(kg/m^3)");
+  require_magnitude("Isotropic.E", E, "(Pa)");
+  // nu -> -1 would make G = E / (2 (1 + nu)) exceed E by more than kMaxAnisotropy.
+  require_open_interval("Isotropic.nu", nu, -1.0 + 1.0 / kMaxAnisotropy, 0.5);
+  require_magnitude("Isotropic.rho", rho, "(kg/m^3)");
   const double G = E / (2.0 * (1.0 + nu));
   Orthotropic m;
   m.E1_ = m.E2_ = E;
@@ -29,17 +31,35 @@ Orthotropic Orthotropic::isotropic(double E, double nu, double rho) {
 
 void Orthotropic::validate(const char* who) const {
   const std::string w(who);
-  require_positive(w + ".E1", E1_, "(Pa)");
-  require_positive(w + ".E2", E2_, "(Pa)");
-  require_positive(w + ".G12", G12_, "(Pa)");
-  require_positive(w + ".G13", G13_, "(Pa)");
-  require_positive(w + ".G23", G23_, "(Pa)");
-  require_positive(w + ".rho", rho_, "(kg/m^3)");
+  require_magnitude(w + ".E1", E1_, "(Pa)");
+  require_magnitude(w + ".E2", E2_, "(Pa)");
+  require_magnitude(w + ".G12", G12_, "(Pa)");
+  require_magnitude(w + ".G13", G13_, "(Pa)");
+  require_magnitude(w + ".G23", G23_, "(Pa)");
+  require_magnitude(w + ".rho", rho_, "(kg/m^3)");
+  // The stiffness of one element mixes the five moduli: beyond a ratio of kMaxAnisotropy its
+  // factorisation loses every digit of the weakest (G12 = 1e308 against E2 = 1e10 crashed the
+  // modal solver). Real laminae stay below ~300 (pitch-carbon E1 / G23).
+  const double moduli[] = {E1_, E2_, G12_, G13_, G23_};
+  const char* names[] = {"E1", "E2", "G12", "G13", "G23"};
+  int lo = 0, hi = 0;
+  for (int i = 1; i < 5; ++i) {
+    if (moduli[i] < moduli[lo]) lo = i;
+    if (moduli[i] > moduli[hi]) hi = i;
+  }
+  if (moduli[hi] > kMaxAnisotropy * moduli[lo]) {
+    std::ostringstream r;
+    r << "<= " << kMaxAnisotropy << " " << w << "." << names[lo] << " = "
+      << kMaxAnisotropy * moduli[lo] << " (Pa): the moduli must lie within a factor "
+      << kMaxAnisotropy << " of each other";
+    throw_out_of_range(w + "." + names[hi], moduli[hi], r.str());
+  }
   // Positive-definite plane-stress compliance: 1 - nu12 nu21 > 0, i.e. |nu12| < sqrt(E1/E2)
-  // (Jones, "Mechanics of Composite Materials", 1999, Sec. 2.4.1).
-  const double bound = std::sqrt(E1_ / E2_);
+  // (Jones, "Mechanics of Composite Materials", 1999, Sec. 2.4.1); kept >= 1 / kMaxAnisotropy, as
+  // Q = E / (1 - nu12 nu21) would otherwise outgrow the moduli by more than kMaxAnisotropy.
+  const double bound = std::sqrt((1.0 - 1.0 / kMaxAnisotropy) * E1_ / E2_);
   require_open_interval(w + ".nu12", nu12_, -bound, bound,
-                        "(= +-sqrt(E1/E2), for a positive-definite compliance)");
+                        "(~ +-sqrt(E1/E2): 1 - nu12 nu21 >= 1e-6, a positive-definite compliance)");
 }
 
 Eigen::Matrix3d Orthotropic::Q() const {

@@ -8,8 +8,12 @@ namespace deployfx::material {
 
 class Orthotropic {
  public:
-  /// Throws std::invalid_argument for non-positive moduli or density, or a compliance that is
-  /// not positive definite (|nu12| >= sqrt(E1/E2)).
+  /// The largest ratio between two of the five moduli (E1, E2, G12, G13, G23).
+  static constexpr double kMaxAnisotropy = 1e6;
+
+  /// Throws std::invalid_argument for moduli or density outside [1e-50, 1e50] (check.hpp), moduli
+  /// more than kMaxAnisotropy apart, or a compliance that is not positive definite
+  /// (|nu12| >= sqrt(E1/E2)).
   Orthotropic(double E1, double E2, double G12, double G13, double G23, double nu12, double rho);
   /// The isotropic special case, G = E / (2 (1 + nu)); requires -1 < nu < 0.5.
   static Orthotropic isotropic(double E, double nu, double rho);

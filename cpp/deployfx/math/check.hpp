@@ -32,6 +32,21 @@ inline void require_open_interval(const std::string& name, double value, double 
   }
 }
 
+/// The magnitudes of material and section inputs (SI units) that the shell matrices and their
+/// factorisations carry without leaving the doubles: products of a few of them and their squares
+/// stay within ~1e+-300 (docs/reliability.md).
+constexpr double kMinMagnitude = 1e-50, kMaxMagnitude = 1e50;
+
+/// value must be finite and in [kMinMagnitude, kMaxMagnitude].
+inline void require_magnitude(const std::string& name, double value, const std::string& unit) {
+  if (!(std::isfinite(value) && value >= kMinMagnitude && value <= kMaxMagnitude)) {
+    std::ostringstream r;
+    r << "in [" << kMinMagnitude << ", " << kMaxMagnitude << "] " << unit
+      << " (beyond, the shell matrices leave the doubles' range)";
+    throw_out_of_range(name, value, r.str());
+  }
+}
+
 /// value must be finite.
 inline void require_finite(const std::string& name, double value, const std::string& unit = "") {
   if (!std::isfinite(value)) throw_out_of_range(name, value, "finite " + unit);
