@@ -356,16 +356,33 @@ def test_pin_pressed_on_a_track_dissipates_mu_N_s(mu):
     assert g.load(0.4, 0.8, h).support_force == pytest.approx(N, rel=1e-14)
 
 
+def test_a_latch_pin_pushed_to_the_end_of_its_travel_is_a_fixed_pin():
+    # The track (radius 32 mm, pin 2 mm: the pin would ride at 34 mm) beyond the bore's reach
+    # (29 + 4 = 33 mm): the pin is held at 33 mm, 1 mm into the track, which then pushes with the
+    # clamped law K delta^1.5 (no spring load through the support), and friction mu F_n on the
+    # pin centre's slip at 33 mm (1e-12).
+    K, mu = 1e9, 0.3
+    latch = G.LatchSpring(stop=0.029, travel=0.004, preload=2.0, stiffness=0.0)
+    g = G.PinGroove(arc_track(0.032), 0.03, 0.0, 0.002, ContactLaw("paper", K=K, D=0.0), Friction(mu), latch)
+    h = g.start_history(0.0)
+    p = g.position(0.5, h)
+    assert h.support == 0 and p["bottomed"] and p["s"] == pytest.approx(0.033, abs=1e-15)
+    L = g.load(0.5, 0.6, h)
+    Fn = K * 1e-3**1.5
+    assert L.normal_force == pytest.approx(Fn, rel=1e-9)
+    assert L.support_force == 0
+    assert L.torque == pytest.approx(-mu * Fn * 0.033, rel=1e-9)
+
+
 @pytest.mark.parametrize("mu", [0.0, 0.3])
 def test_latch_pin_on_a_straight_groove_balances_energy(mu):
-    # A latch pin (spring preload 2 N, rate 400 N/m, toward the axis) pressed on a straight
-    # groove (the line y = -0.02 m... seen from the pin at distance ~0.03 m from the axis) while
-    # the hinge turns at 0.5 rad/s: the work of the lock torque equals minus the spring's energy
-    # change minus the friction work, mu N ds along the path, with N the support force the module
-    # reports (the massless pin's balance) and ds = |dc/dtheta| dtheta. Quadrature 1e-10.
-    line = G.GrooveProfile([G.Line((0.06, 0.028), (-0.06, 0.028))])  # material above... free below
-    # Free space on the left of (+x -> -x) is y < 0.028: the axis side. A pin pushed away from
-    # the axis (toward the line) rides it.
+    # A latch pin (spring preload 2 N, rate 400 N/m) pushed away from the axis onto a straight
+    # groove, the line y = 0.028 m (material above it, free space on the axis side: the left of
+    # its direction -x), while the hinge turns at 0.5 rad/s over 63 deg: the work done on the
+    # lock, -integral(tau dtheta), equals the spring's energy change plus the friction work
+    # integral(mu N ds), with N the support force the module reports (the massless pin's radial
+    # balance) and ds = |dc/dtheta| dtheta along the pin's path. Quadrature to 1e-13: 1e-9.
+    line = G.GrooveProfile([G.Line((0.06, 0.028), (-0.06, 0.028))])
     latch = G.LatchSpring(stop=0.040, travel=0.030, preload=2.0, stiffness=400.0, toward_axis=False)
     g = G.PinGroove(line, 0.03, np.pi / 2, 0.002, PAPER_LAW, Friction(mu), latch)
     h = g.start_history(0.0)

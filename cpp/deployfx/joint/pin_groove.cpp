@@ -75,14 +75,16 @@ Kinematics kinematics(const PinGrooveSpec& spec, const PinGrooveHistory& h, doub
   return k;
 }
 
-// A closed facet's force on the pin (a Dual 2-vector); adds its normal force to *Fn_sum.
+// A closed facet's force on the pin (a Dual 2-vector); adds its normal force to *Fn_sum. The law
+// without its clamp (an active-set contact), or with it (`clamped`, a contact without history).
 V facet_force(const PinGrooveSpec& spec, const FacetContact& fc, const contact::PinQuery& q, const Kinematics& k,
-              double* Fn_sum) {
+              double* Fn_sum, bool clamped = false) {
   const V N = lift_normal(q, k.C), T = tangent(N);
   Dual delta = Dual(-q.gap);  // delta = -gap(c): d delta = -n·dc
   for (int j = 0; j < Dual::K; ++j) delta.d[j] = -q.n.dot(dir(k.C, j));
   const Dual delta_dot = -dot(N, k.C_dot);
-  const auto f = contact::unclamped_force(spec.law, delta.v, delta_dot.v, fc.v0);
+  const auto f = clamped ? spec.law.evaluate(delta.v, delta_dot.v, fc.v0)
+                         : contact::unclamped_force(spec.law, delta.v, delta_dot.v, fc.v0);
   const Dual Fn = lift(f.F, f.dF_ddelta, delta, f.dF_ddelta_dot, delta_dot);
   *Fn_sum += Fn.v;
   V F = Fn * N;
@@ -173,7 +175,7 @@ PinGrooveLoad pin_groove_load(const PinGrooveSpec& spec, const PinGrooveHistory&
       fc.closed = true;
       const Dual delta_dot = -dot(lift_normal(q, k.C), k.C_dot);
       fc.v0 = std::max(std::abs(delta_dot.v), kMinOnsetSpeed);
-      if (q.gap < 0) F += facet_force(spec, fc, q, k, &out.normal_force);
+      F += facet_force(spec, fc, q, k, &out.normal_force, true);
     } else if (k.st.found && q.in_range) {
       // The massless pin's balance along the bore e_b: N (n + f t)·e_b = -(F_s + F_others·e_b).
       const LatchSpring& L = *spec.latch;

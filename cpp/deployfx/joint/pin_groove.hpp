@@ -34,7 +34,9 @@
 // with e_b the spring's direction, F_k the other facets' forces; the pin transmits
 // F = N (n_s + f t_s) + sum_k F_k to C at c. A support nearly along the bore (|(n_s + f t_s)·e_b|
 // below kMinHold = 0.05, the end of a roll-over or a wedge jam) is held at that value: the wedge
-// force is capped at 20 times the radial load; a real pin leaves the corner there.
+// force is capped at 20 times the radial load; a real pin leaves the corner there. A profile that
+// pushes the pin to the end of its travel (bottomed) holds it there as a fixed pin, the support
+// then a compliant contact with the law's clamp (no history).
 //
 // Derivatives d/dtheta and d/dtheta' are exact: forward-mode dual numbers (math/dual.hpp) carried
 // through the profile's analytic gap, normal and curvature (d n/d c) and the laws' partials.
@@ -86,7 +88,9 @@ struct PinGrooveLoad {
   double normal_force = 0;   ///< N, sum of the closed facets' normal forces and the support's
   double support_force = 0;  ///< N, the latch support's normal force N (0 without)
   double pin_position = 0;   ///< m, s: the pin centre's distance from the axis
-  bool support_lost = false; ///< latch: the support no longer meets the bore (a drop was stepped over)
+  /// Latch: the support no longer meets the bore (a trial state past the drop event); the pin is
+  /// then where it falls and carries no spring load until update_history drops it.
+  bool support_lost = false;
 };
 
 /// The history at the start of a run at hinge angle theta: facets armed where the pin is on their
