@@ -276,6 +276,40 @@ def test_stop_latch_profile_reproduces_todays_lock(law, wall):
         assert new.d_theta == pytest.approx(direct["d_theta"], rel=5 * abs(D) + 1e-9, abs=1e-9 * peak + at_zero)
 
 
+@pytest.mark.parametrize("wall", ["stop", "latch"])
+def test_stop_latch_facet_states_and_levers_are_todays_walls(wall):
+    # The engine's impact records and step control read each wall's state and the pin's lever
+    # (joint::wall_states, contact_resolution). Per facet: the state at (theta, theta') is today's
+    # at (theta_wall + sin D, theta' cos D) to round-off (delta = r sin D, delta' = r theta' cos D,
+    # F the unclamped law's), the lever d delta/d theta is +-r cos D (1e-15 m), and the angle error
+    # a step may make is kContactResolution v0 T / lever (today's: v0 T / r, in m).
+    L = lock(ContactLaw("hunt-crossley", K=1e10, e=0.8))
+    g = G.PinGroove.stop_latch(L, rho=0.003)
+    h = hinge_history(stop=wall == "stop", latch=wall == "latch")
+    gh = _core.stop_latch_history(h)
+    facet, index = (0, 0) if wall == "stop" else (2, 1)
+    facets = gh.facets
+    facets[facet].T = 2e-4  # as the engine sets it at onset
+    gh.facets = facets
+    th_wall = L.theta_lock if wall == "stop" else L.theta_lock - L.clearance / L.pin_radius
+    sign = 1.0 if wall == "stop" else -1.0
+    for dpen in (-1e-5, 0.0, 3e-5, 1.2e-4):
+        for rate in (-0.8, 0.0, 0.6):
+            D = sign * dpen / L.pin_radius
+            new = g.facet_state(facet, th_wall + D, rate, gh)
+            old = _core.hinge_wall_states(G.PinGroove._hinge_lock(L), h, th_wall + np.sin(D), rate * np.cos(D))[index]
+            assert new["contact"] and old["contact"]
+            assert new["delta"] == pytest.approx(old["delta"], abs=3e-17)  # eps x 0.03 m x a few
+            assert new["delta_dot"] == pytest.approx(old["delta_dot"], rel=1e-14, abs=1e-18)
+            assert new["F"] == pytest.approx(old["F"], rel=1e-10, abs=1e-9)
+            assert g.lever(facet, th_wall + D, gh) == pytest.approx(sign * L.pin_radius * np.cos(D), abs=1e-15)
+    v0, T = (h.stop_v0, 2e-4) if wall == "stop" else (h.latch_v0, 2e-4)
+    error, min_step = g.contact_resolution(th_wall, gh)
+    assert error == pytest.approx(1e-3 * v0 * T / L.pin_radius, rel=1e-12)
+    assert min_step == pytest.approx(T / 100, rel=1e-15)
+    assert g.contact_resolution(th_wall, _core.stop_latch_history(hinge_history())) == (np.inf, 0.0)
+
+
 def test_stop_latch_arms_its_latch_where_todays_latch_latches():
     # hinge_lock.cpp: latched once theta >= theta_latch; the latch facet arms when the pin reaches
     # its free side, gap = r sin(theta - theta_latch) >= 0: the same angle, to the 1e-12 rad

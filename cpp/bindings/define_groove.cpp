@@ -7,6 +7,8 @@
 #include <pybind11/stl.h>
 
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "deployfx/contact/groove_profile.hpp"
@@ -38,6 +40,21 @@ py::dict query_dict(const PinQuery& q) {
   d["at_vertex"] = q.at_vertex;
   d["chain_length"] = q.chain_length;
   return d;
+}
+
+py::dict wall_dict(const WallState& w) {
+  py::dict d;
+  d["contact"] = w.contact;
+  d["F"] = w.F;
+  d["delta"] = w.delta;
+  d["delta_dot"] = w.delta_dot;
+  return d;
+}
+
+void check_facet(const PinGrooveSpec& s, int facet) {
+  if (facet < 0 || facet >= s.profile.num_facets())
+    throw std::invalid_argument("facet = " + std::to_string(facet) + " is out of range: must be in [0, " +
+                                std::to_string(s.profile.num_facets() - 1) + "]");
 }
 
 py::dict load_dict(const PinGrooveLoad& l) {
@@ -122,7 +139,8 @@ void define_groove(py::module_& m) {
       .def_readwrite("armed", &FacetContact::armed, "The pin has been on the facet's free side since it last left its range.")
       .def_readwrite("closed", &FacetContact::closed, "In contact: the law is used without its clamp.")
       .def_readwrite("inside", &FacetContact::inside, "Open, but within the compliant layer at the last accepted state.")
-      .def_readwrite("v0", &FacetContact::v0, "Approach speed at onset, m/s (at least 1 mm/s).");
+      .def_readwrite("v0", &FacetContact::v0, "Approach speed at onset, m/s (at least 1 mm/s).")
+      .def_readwrite("T", &FacetContact::T, "Impact time scale of the contact in progress, s (set by the engine).");
 
   py::class_<PinGrooveHistory>(m, "PinGrooveHistory", "What a pin-groove lock remembers between steps.")
       .def(py::init<>())
@@ -148,6 +166,19 @@ void define_groove(py::module_& m) {
           return load_dict(pin_groove_load(s, h, theta, rate));
         }, py::arg("spec"), py::arg("history"), py::arg("theta"), py::arg("rate"));
   m.def("groove_num_events", &num_events, py::arg("spec"));
+  m.def("groove_facet_state", [](const PinGrooveSpec& s, const PinGrooveHistory& h, int facet, double theta,
+                                 double rate) {
+          check_facet(s, facet);
+          return wall_dict(facet_state(s, h, facet, theta, rate));
+        }, py::arg("spec"), py::arg("history"), py::arg("facet"), py::arg("theta"), py::arg("rate"));
+  m.def("groove_facet_lever", [](const PinGrooveSpec& s, const PinGrooveHistory& h, int facet, double theta) {
+          check_facet(s, facet);
+          return facet_lever(s, h, facet, theta);
+        }, py::arg("spec"), py::arg("history"), py::arg("facet"), py::arg("theta"));
+  m.def("groove_contact_resolution", [](const PinGrooveSpec& s, const PinGrooveHistory& h, double theta) {
+          const auto r = contact_resolution(s, h, theta);
+          return py::make_tuple(r.error, r.min_step);
+        }, py::arg("spec"), py::arg("history"), py::arg("theta"));
   m.def("groove_events", [](const PinGrooveSpec& s, const PinGrooveHistory& h, double theta, double rate) {
           Eigen::VectorXd e(num_events(s));
           pin_groove_events(s, h, theta, rate, e.data());
@@ -184,6 +215,11 @@ void define_groove(py::module_& m) {
   m.def("paper_groove", &paper_groove, py::arg("parameters"), py::arg("law"), py::arg("friction"));
 
   // Today's lock (joint/hinge_lock.hpp), for comparison.
+  m.def("hinge_wall_states", [](const HingeLockSpec& lock, const LockHistory& h, double theta, double rate) {
+          WallState stop, latch;
+          wall_states(lock, h, theta, rate, &stop, &latch);
+          return py::make_tuple(wall_dict(stop), wall_dict(latch));
+        }, py::arg("lock"), py::arg("history"), py::arg("theta"), py::arg("rate"));
   m.def("hinge_lock_load", [](const HingeLockSpec& lock, const LockHistory& h, double theta, double rate) {
           const auto l = lock_load(lock, h, theta, rate);
           py::dict d;

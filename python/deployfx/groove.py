@@ -266,6 +266,22 @@ class PinGroove:
         compression, m), drop_margin (m), found, bottomed."""
         return _core.groove_pin_position(self._impl, history, _finite("theta", theta, "rad"))
 
+    def facet_state(self, facet: int, theta: float, rate: float, history: History) -> dict:
+        """A facet's contact (joint::wall_states for a facet): contact, F (N), delta (m),
+        delta_dot (m/s), positive into the facet."""
+        return _core.groove_facet_state(self._impl, history, int(facet), _finite("theta", theta, "rad"),
+                                        _finite("rate", rate, "rad/s"))
+
+    def lever(self, facet: int, theta: float, history: History) -> float:
+        """d delta / d theta of a facet (m/rad, > 0 when theta drives the pin into it): the pin's
+        effective mass along its normal is 1 / (lever^2 e^T M^-1 e)."""
+        return _core.groove_facet_lever(self._impl, history, int(facet), _finite("theta", theta, "rad"))
+
+    def contact_resolution(self, theta: float, history: History) -> tuple[float, float]:
+        """(hinge-angle error a step in contact may make, rad; shortest step worth taking, s)
+        over the closed facets with an impact time scale T; (inf, 0) with none."""
+        return _core.groove_contact_resolution(self._impl, history, _finite("theta", theta, "rad"))
+
     def events(self, theta: float, rate: float, history: History) -> np.ndarray:
         """The event functions (one per facet, then the latch's drop), positive while modes hold."""
         return _core.groove_events(self._impl, history, _finite("theta", theta, "rad"), _finite("rate", rate, "rad/s"))

@@ -200,6 +200,39 @@ PinGrooveLoad pin_groove_load(const PinGrooveSpec& spec, const PinGrooveHistory&
   return out;
 }
 
+WallState facet_state(const PinGrooveSpec& spec, const PinGrooveHistory& h, int facet, double theta, double rate) {
+  check_history(spec, h);
+  const Kinematics k = kinematics(spec, h, theta, rate);
+  const auto q = spec.profile.query(facet, val(k.C), spec.pin_radius);
+  WallState w;
+  if (facet == h.support || !q.in_range) return w;
+  const FacetContact& fc = h.facets[static_cast<std::size_t>(facet)];
+  w.delta = -q.gap;
+  w.delta_dot = -q.n.dot(val(k.C_dot));
+  w.contact = fc.closed;
+  if (fc.closed) w.F = contact::unclamped_force(spec.law, w.delta, w.delta_dot, fc.v0).F;
+  return w;
+}
+
+double facet_lever(const PinGrooveSpec& spec, const PinGrooveHistory& h, int facet, double theta) {
+  check_history(spec, h);
+  const Kinematics k = kinematics(spec, h, theta, 0.0);
+  return -spec.profile.query(facet, val(k.C), spec.pin_radius).n.dot(val(k.C_th));  // delta = -gap
+}
+
+ContactResolution contact_resolution(const PinGrooveSpec& spec, const PinGrooveHistory& h, double theta) {
+  ContactResolution out{kInf, 0.0};
+  for (int f = 0; f < spec.profile.num_facets(); ++f) {
+    const FacetContact& fc = h.facets[static_cast<std::size_t>(f)];
+    if (!fc.closed || !(fc.T > 0) || f == h.support) continue;
+    const double lever = std::abs(facet_lever(spec, h, f, theta));
+    if (lever > 0) out.error = std::min(out.error, kContactResolution * fc.v0 * fc.T / lever);
+    const double step = fc.T / kMaxStepsPerImpactTime;
+    out.min_step = out.min_step > 0 ? std::min(out.min_step, step) : step;
+  }
+  return out;
+}
+
 int num_events(const PinGrooveSpec& spec) { return spec.profile.num_facets() + (spec.latch ? 1 : 0); }
 
 void pin_groove_events(const PinGrooveSpec& spec, const PinGrooveHistory& h, double theta, double rate,
@@ -236,20 +269,27 @@ void update_history(const PinGrooveSpec& spec, PinGrooveHistory& h, double theta
       h.support = next_support(spec.profile, L, spec.pin_angle, spec.pin_radius, theta, L.travel, old);
       // The old support, left at its tangency (gap ~ 0 to round-off), is handed over as a facet
       // that has just separated (hinge_lock's `inside`): it closes again only if it would push.
-      h.facets[static_cast<std::size_t>(old)] = FacetContact{true, false, true, 0.0};
+      FacetContact& was = h.facets[static_cast<std::size_t>(old)];
+      was.armed = true;
+      was.closed = false;
+      was.inside = true;
+      was.T = 0.0;
     }
   }
   const Kinematics k = kinematics(spec, h, theta, rate);
   const Vector2d c = val(k.C), c_dot = val(k.C_dot);
   for (int f = 0; f < nf; ++f) {
     FacetContact& fc = h.facets[static_cast<std::size_t>(f)];
-    if (f == h.support) {
-      fc = FacetContact{true, false, false, 0.0};
+    if (f == h.support) {  // carried by the spring, no contact of its own (its records kept)
+      fc.armed = true;
+      fc.closed = fc.inside = false;
+      fc.T = 0.0;
       continue;
     }
     const auto q = spec.profile.query(f, c, spec.pin_radius);
     if (!q.in_range) {
-      fc = FacetContact{};
+      fc.armed = fc.closed = fc.inside = false;
+      fc.T = 0.0;
       continue;
     }
     if (q.gap >= 0) fc.armed = true;  // as hinge_lock's latch: armed first, then its mode
@@ -262,6 +302,7 @@ void update_history(const PinGrooveSpec& spec, PinGrooveHistory& h, double theta
       fc.closed = !fc.closed;
       // The Hunt-Crossley family's damping scales as 1/v0: floored as in hinge_lock.cpp.
       if (fc.closed) fc.v0 = std::max(delta_dot, kMinOnsetSpeed);
+      if (!fc.closed) fc.T = 0.0;  // the engine sets T when a facet closes
     }
     fc.inside = !fc.closed && delta > 0;
   }

@@ -47,6 +47,8 @@
 #include "deployfx/contact/force_law.hpp"
 #include "deployfx/contact/friction.hpp"
 #include "deployfx/contact/groove_profile.hpp"
+#include "deployfx/joint/hinge_lock.hpp"
+#include "deployfx/joint/impact_record.hpp"
 #include "deployfx/joint/latch_follower.hpp"
 
 namespace deployfx::joint {
@@ -73,6 +75,11 @@ struct FacetContact {
   bool closed = false;  ///< in contact: the law is used without its clamp
   bool inside = false;  ///< open but within the compliant layer (delta > 0) at the last accepted state
   double v0 = 0;        ///< m/s, approach speed at onset (at least 1 mm/s)
+  /// s, the impact time scale of the contact in progress (as LockHistory::stop_T: set by the
+  /// engine at onset from the pin's effective mass along the facet, facet_lever; 0 while open or
+  /// for a plastic impact).
+  double T = 0;
+  ImpactTracker track;  ///< the facet's impact records (Impact::wall = the facet's index)
 };
 
 /// What the lock remembers between steps (a run's Data).
@@ -102,6 +109,21 @@ PinGrooveHistory start_history(const PinGrooveSpec& spec, double theta);
 FollowerState pin_position(const PinGrooveSpec& spec, const PinGrooveHistory& history, double theta);
 
 PinGrooveLoad pin_groove_load(const PinGrooveSpec& spec, const PinGrooveHistory& history, double theta, double rate);
+
+/// Facet f under a history (joint::wall_states for a facet): its mode, normal force (N; the law
+/// without its clamp while closed, 0 while open), penetration and its rate (m, m/s, positive into
+/// the facet). The latch's support is no impact: reported open.
+WallState facet_state(const PinGrooveSpec& spec, const PinGrooveHistory& history, int facet, double theta,
+                      double rate);
+/// The facet's lever, d delta / d theta = -n·dc/dtheta (m/rad; > 0 when theta drives the pin into
+/// it): the pin's effective mass along the facet's normal is 1 / (lever^2 e^T M^-1 e) (today's
+/// lock: r; here r cos D on the stop wall, -r cos D on the latch wall).
+double facet_lever(const PinGrooveSpec& spec, const PinGrooveHistory& history, int facet, double theta);
+/// joint::contact_resolution for the groove, over the closed facets with T > 0: the hinge-angle
+/// error a step may make, kContactResolution v0 T / |lever| (rad, where today's returns m and the
+/// engine divides by the pin radius), and the shortest step worth taking, T /
+/// kMaxStepsPerImpactTime (s); +inf and 0 with none.
+ContactResolution contact_resolution(const PinGrooveSpec& spec, const PinGrooveHistory& history, double theta);
 
 /// The number of event functions: one per facet, plus one (the drop) with a latch spring.
 int num_events(const PinGrooveSpec& spec);
