@@ -14,6 +14,7 @@ void define_integrate(py::module_& m);
 void define_multibody(py::module_& m);
 void define_contact(py::module_& m);
 void define_stress(py::module_& m);
+void define_groove(py::module_& m);
 
 namespace {
 
@@ -58,4 +59,5 @@ PYBIND11_MODULE(_core, m) {
   define_multibody(m);
   define_contact(m);
   define_stress(m);
+  define_groove(m);
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "deployfx/contact/unclamped_force.hpp"
 #include "deployfx/math/check.hpp"
 
 namespace deployfx::joint {
@@ -24,40 +25,14 @@ void HingeLockSpec::validate() const {
 
 namespace {
 
-// A wall's normal force without the clamp, for a wall in contact: delta may turn slightly
-// negative within the step that ends at separation. Kelvin-Voigt: F = K s|delta|^n + D delta',
-// s = sign(delta). Hunt-Crossley family: F = K delta^n (1 + c delta'/v0) for delta > 0 and
-// -K |delta|^n |1 + c delta'/v0| below, so that the extension never pushes a pin that has left
-// the surface (which would feed energy in and keep the wall from opening).
-contact::ContactForce unclamped(const contact::ContactLaw& law, double delta, double delta_dot, double v0) {
-  const double a = std::abs(delta), sgn = delta < 0 ? -1.0 : 1.0;
-  const double p = law.K() * std::pow(a, law.n()), dp = law.n() * law.K() * std::pow(a, law.n() - 1);
-  contact::ContactForce f;
-  if (law.kind() == contact::ContactLaw::Kind::kKelvinVoigtHertz) {
-    f.F = sgn * p + law.D() * delta_dot;
-    f.dF_ddelta = dp;
-    f.dF_ddelta_dot = law.D();
-  } else {
-    const double c = law.hysteresis_factor() / std::max(v0, 1e-9), m = 1 + c * delta_dot;
-    if (delta >= 0) {
-      f.F = p * m;
-      f.dF_ddelta = dp * m;
-      f.dF_ddelta_dot = p * c;
-    } else {
-      const double sm = m < 0 ? -1.0 : 1.0;
-      f.F = -p * std::abs(m);
-      f.dF_ddelta = dp * std::abs(m);
-      f.dF_ddelta_dot = -p * sm * c;
-    }
-  }
-  return f;
-}
+// A wall's normal force without the clamp, for a wall in contact (contact/unclamped_force.hpp).
+using contact::unclamped_force;
 
 // One wall in contact: penetration delta = s r (theta - theta_w) with s = +1 (stop) or -1 (latch).
 void add_wall(const HingeLockSpec& lock, double s, double theta_w, double v0, double theta, double rate,
               LockLoad& out) {
   const double r = lock.pin_radius;
-  const auto Fn = unclamped(lock.law, s * r * (theta - theta_w), s * r * rate, v0);
+  const auto Fn = unclamped_force(lock.law, s * r * (theta - theta_w), s * r * rate, v0);
   // Normal: torque -s r F_n; friction on the slip r theta' (opposing it), only while pushing.
   const auto Ft = Fn.F > 0 ? lock.friction.evaluate(r * rate, Fn.F) : contact::FrictionForce{};
   out.normal_force += Fn.F;
@@ -82,7 +57,7 @@ void wall_states(const HingeLockSpec& lock, const LockHistory& h, double theta, 
   const double r = lock.pin_radius;
   auto state = [&](bool contact, double v0, double delta, double delta_dot) {
     WallState w{contact, 0.0, delta, delta_dot};
-    if (contact) w.F = unclamped(lock.law, delta, delta_dot, v0).F;
+    if (contact) w.F = unclamped_force(lock.law, delta, delta_dot, v0).F;
     return w;
   };
   *stop = state(h.stop_contact, h.stop_v0, r * (theta - lock.theta_lock), r * rate);
@@ -113,9 +88,9 @@ namespace {
 // 21 trial steps each).
 double wall_event(const contact::ContactLaw& law, bool closed, bool inside, double v0, double delta,
                   double delta_dot) {
-  if (closed) return unclamped(law, delta, delta_dot, v0).F;
+  if (closed) return unclamped_force(law, delta, delta_dot, v0).F;
   if (!inside || delta <= 0) return -delta;
-  return -unclamped(law, delta, delta_dot, std::max(v0, std::abs(delta_dot))).F;
+  return -unclamped_force(law, delta, delta_dot, std::max(v0, std::abs(delta_dot))).F;
 }
 
 }  // namespace

@@ -1,0 +1,148 @@
+#include "deployfx/joint/latch_follower.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "deployfx/math/check.hpp"
+
+namespace deployfx::joint {
+namespace {
+
+using Eigen::Vector2d;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+struct Bore {
+  Vector2d er, ep;  // radial and tangential unit vectors at psi
+  double s0, kappa, W;
+  Vector2d at(double w) const { return (s0 + kappa * w) * er; }
+};
+
+Bore bore(const LatchSpring& spring, double pin_angle, double theta) {
+  const double psi = theta + pin_angle;
+  return {{std::cos(psi), std::sin(psi)}, {-std::sin(psi), std::cos(psi)}, spring.stop, spring.kappa(), spring.travel};
+}
+
+// The gap of the pin at compression w against facet f; +inf when out of the facet's range.
+double gap_at(const contact::GrooveProfile& p, int f, const Bore& b, double rho, double w, contact::PinQuery* q) {
+  *q = p.query(f, b.at(w), rho);
+  return q->in_range ? q->gap : kInf;
+}
+
+// The highest contact point (largest w) of facet f along the bore within [0, w_top]: the root of
+// gap(w) = 0 with gap > 0 above it. Safeguarded Newton (dgap/dw = kappa n·e_r) from w_top, with
+// bisection on the bracket [w_near, w_top] that the bore's nearest point to the facet opens.
+// Returns false when the bore stays clear of the facet's rho-offset.
+// Without one, w_out is the bore's point nearest the facet (the contact point's limit at the
+// drop, where the root and that point meet).
+bool top_contact(const contact::GrooveProfile& p, int f, const Bore& b, double rho, double w_top, double* w_out,
+                 bool* bottomed, double* margin) {
+  const auto sd = p.segment_distance(f, b.at(0.0), b.at(w_top));
+  *margin = rho - sd.distance;
+  *bottomed = false;
+  *w_out = sd.param * w_top;
+  if (!(sd.distance < rho)) return false;
+  contact::PinQuery q;
+  if (gap_at(p, f, b, rho, w_top, &q) <= 0) {
+    *bottomed = true;
+    *w_out = w_top;
+    return true;
+  }
+  double lo = sd.param * w_top, hi = w_top, w = w_top;
+  const double tol_w = 8 * kEps * (std::abs(b.s0) + b.W + rho);
+  for (int it = 0; it < 200 && hi - lo > tol_w; ++it) {
+    const double g = gap_at(p, f, b, rho, w, &q);
+    if (g == 0) break;
+    (g > 0 ? hi : lo) = w;
+    const double slope = q.in_range ? b.kappa * q.n.dot(b.er) : 0.0;
+    double next = slope > 0 ? w - g / slope : -1.0;
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - w) <= tol_w) {
+      w = next;
+      break;
+    }
+    w = next;
+  }
+  *w_out = w;
+  return true;
+}
+
+}  // namespace
+
+void LatchSpring::validate() const {
+  require_positive("latch.stop", stop, "(m)");
+  require_positive("latch.travel", travel, "(m)");
+  if (!toward_axis && !(stop - travel > 0))
+    throw_out_of_range("latch.travel", travel, "< latch.stop when the spring pushes away from the axis (m)");
+  if (!(std::isfinite(preload) && preload >= 0)) throw_out_of_range("latch.preload", preload, ">= 0 (N)");
+  if (!(std::isfinite(stiffness) && stiffness >= 0)) throw_out_of_range("latch.stiffness", stiffness, ">= 0 (N/m)");
+}
+
+namespace {
+
+// The pin on facet f: its contact point and the theta-derivatives of its position.
+FollowerState on_facet(const contact::GrooveProfile& profile, const LatchSpring& spring, const Bore& b, double rho,
+                       int f) {
+  FollowerState st;
+  st.found = top_contact(profile, f, b, rho, spring.travel, &st.w, &st.bottomed, &st.drop_margin);
+  st.s = spring.stop + b.kappa * st.w;
+  if (!st.found || st.bottomed) return st;  // bottomed: held at the end of its travel, ds = d2s = 0
+  // gap(s e_r(psi)) = 0 along theta (psi' = 1): s' = -(n·s e_psi)/(n·e_r), and from the second
+  // derivative, c_th^T H c_th + n·c_thth = 0 with c_th = s' e_r + s e_psi and
+  // c_thth = s'' e_r + 2 s' e_psi - s e_r.
+  const contact::PinQuery q = profile.query(f, b.at(st.w), rho);
+  double ner = q.n.dot(b.er);
+  if (std::abs(ner) < 1e-12) ner = ner < 0 ? -1e-12 : 1e-12;  // the end of a roll-over: vertical
+  st.ds = -st.s * q.n.dot(b.ep) / ner;
+  const Vector2d c_th = st.ds * b.er + st.s * b.ep;
+  st.d2s = -(c_th.dot(q.dn_dc * c_th) + q.n.dot(2 * st.ds * b.ep - st.s * b.er)) / ner;
+  return st;
+}
+
+}  // namespace
+
+FollowerState follow(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle, double rho,
+                     int support, double theta) {
+  const Bore b = bore(spring, pin_angle, theta);
+  FollowerState st;
+  if (support >= 0) st = on_facet(profile, spring, b, rho, support);
+  if (support >= 0 && st.found) return st;
+  // On the bore stop, or past a drop (a trial state beyond the located event): the pin where it
+  // falls, on the next support (found = false and the old support's negative drop margin).
+  const double margin = support >= 0 ? st.drop_margin : kInf;
+  const int next = support >= 0 ? next_support(profile, spring, pin_angle, rho, theta, spring.travel, support) : -1;
+  FollowerState landed;
+  if (next >= 0) landed = on_facet(profile, spring, b, rho, next);
+  if (next < 0 || !landed.found) {
+    landed = FollowerState{};
+    landed.s = spring.stop;
+  }
+  landed.found = support < 0;
+  landed.drop_margin = margin;
+  return landed;
+}
+
+int next_support(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle, double rho,
+                 double theta, double w_from, int exclude) {
+  const Bore b = bore(spring, pin_angle, theta);
+  const double w_top = std::min(w_from, spring.travel);
+  int best = -1;
+  double w_best = -kInf;
+  for (int f = 0; f < profile.num_facets(); ++f) {
+    if (f == exclude) continue;
+    double w = 0, margin = 0;
+    bool bottomed = false;
+    if (!top_contact(profile, f, b, rho, w_top, &w, &bottomed, &margin)) continue;
+    // Below w_from only (a fall), and the contact must face the spring: n·e_b < 0.
+    const contact::PinQuery q = profile.query(f, b.at(w), rho);
+    if (!q.in_range || !(b.kappa * q.n.dot(b.er) > 0)) continue;
+    if (w > w_best) {
+      w_best = w;
+      best = f;
+    }
+  }
+  return best;
+}
+
+}  // namespace deployfx::joint

@@ -1,0 +1,62 @@
+#pragma once
+// A spring-loaded latch pin as a massless radial follower (the optional latch spring of
+// joint/pin_groove.hpp). Model and assumptions:
+// - The pin slides in a straight radial bore of the child body (direction pin_angle in its hinge
+//   plane); its centre's distance from the hinge axis is s = stop + kappa w, with w in [0, travel]
+//   the spring's compression from its stop and kappa = +1 when the spring pushes the pin toward
+//   the axis (-1: away). The spring force is F_s = preload + stiffness w, along e_b = -kappa e_r.
+// - The pin has no mass: it rests on one facet of the groove profile, its support (a history
+//   variable), at the contact point where gap = 0 (a rigid follower: the support's penetration,
+//   ~(F_s/K)^(2/3), is neglected against the travel), or on its bore stop (w = 0) without one.
+//   Rolling over a convex corner it follows the corner's fan.
+// - The support ends when the bore no longer meets the support's rho-offset within the travel
+//   (the pin drops off an edge): the event function drop_margin = rho - (distance from the bore
+//   segment to the facet) is continuous and crosses 0 there, linearly in theta at a sharp edge.
+//   The pin then falls, at once, to the next support below (next_support), or its bore stop; the
+//   spring work of that fall goes into the pin's impact on the new support: lost.
+// Limits: the pin never climbs onto another facet (a facet it runs into is a compliant contact
+// of pin_groove.hpp); the support's slope dominates the radial motion near the end of a roll-over
+// (ds/dtheta grows as 1/sqrt near a vertical flank: a massless pin follows any edge at once, a
+// real one lags by its drop time sqrt(2 m d / F_s), ~4 ms for a 5 g pin falling 2 mm under 1.5 N).
+#include <Eigen/Core>
+
+#include "deployfx/contact/groove_profile.hpp"
+
+namespace deployfx::joint {
+
+struct LatchSpring {
+  bool toward_axis = true;  ///< the spring pushes the pin toward the hinge axis (else away from it)
+  double stop = 0;          ///< m, the pin centre's distance from the axis at its bore stop (w = 0)
+  double travel = 0;        ///< m, how far the spring can be compressed from the stop (> 0)
+  double preload = 0;       ///< N, the spring force at the stop (>= 0)
+  double stiffness = 0;     ///< N/m (>= 0)
+  /// Throws std::invalid_argument naming the parameter: stop > 0, travel > 0, the bore on one
+  /// side of the axis (stop - travel > 0 when pushing away from it), preload >= 0, stiffness >= 0.
+  void validate() const;
+  double kappa() const { return toward_axis ? 1.0 : -1.0; }
+  double force(double w) const { return preload + stiffness * w; }  ///< N at compression w (m)
+};
+
+/// The pin's radial position on a support at hinge angle theta.
+struct FollowerState {
+  bool found = false;     ///< the bore meets the support's rho-offset within the travel (true on the stop)
+  bool bottomed = false;  ///< the profile pushes the pin to the end of its travel (w = travel)
+  double w = 0;           ///< m, compression (0 on the bore stop)
+  double s = 0, ds = 0, d2s = 0;  ///< m, m/rad, m/rad^2: distance from the axis and its theta-derivatives
+  double drop_margin = 0;         ///< m, rho - distance(bore, support): > 0 while supported
+};
+
+/// The pin on facet `support` (psi = theta + pin_angle its direction in the parent's hinge plane);
+/// support < 0: on its bore stop (s = stop, ds = d2s = 0, drop_margin = +inf). Past the drop
+/// (drop_margin < 0, a trial state beyond the event), found is false and the pin is where it
+/// falls: on next_support(..., travel, support), or its bore stop.
+FollowerState follow(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle,
+                     double rho, int support, double theta);
+/// The support the pin falls onto from compression w_from (m): the facet other than `exclude`
+/// with the highest contact point below w_from (largest w), or -1 (the bore stop). With
+/// w_from = +inf and exclude = -1: the pin's support when it is mounted (the facet that holds it
+/// farthest from its stop).
+int next_support(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle, double rho,
+                 double theta, double w_from, int exclude);
+
+}  // namespace deployfx::joint
