@@ -143,7 +143,7 @@ void define_multibody(py::module_& m) {
                         "prescribed angle (driver), a lock, the body's rigid parts and a panel.")
       .def(py::init([](int parent, const Eigen::Vector3d& point, const Eigen::Vector3d& axis, const Eigen::Matrix3d& R_PC0,
                        double tau0, double k_theta, double c_theta, std::optional<SpinUpDriver> driver,
-                       std::optional<HingeLockSpec> lock, const deployfx::body::RigidInertia& body,
+                       std::optional<deployfx::joint::LockSpec> lock, const deployfx::body::RigidInertia& body,
                        std::optional<AppendageSpec> panel) {
              HingeSpec h;
              h.parent = parent;
@@ -358,15 +358,25 @@ void define_multibody(py::module_& m) {
             check_hinge(*d.model, k);
             return d.data.locks[static_cast<std::size_t>(k)];
           },
-          py::arg("hinge"), "Hinge k's lock history (a copy).")
+          py::arg("hinge"), "Hinge k's lock history (a copy): a LockHistory or a PinGrooveHistory.")
       .def(
           "set_lock",
-          [](PyData& d, int k, const LockHistory& h) {
+          [](PyData& d, int k, const deployfx::joint::LockState& h) {
             check_hinge(*d.model, k);
+            if (h.index() != d.data.locks[static_cast<std::size_t>(k)].index())
+              throw std::invalid_argument("history: hinge " + std::to_string(k) + "'s lock takes a " +
+                                          (h.index() ? "LockHistory" : "PinGrooveHistory"));
             d.data.locks[static_cast<std::size_t>(k)] = h;
           },
           py::arg("hinge"), py::arg("history"))
-      .def("reset_history", [](PyData& d) { d.data.reset_history(); });
+      .def(
+          "reset_history",
+          [](PyData& d, std::optional<Eigen::VectorXd> q) {
+            const Eigen::VectorXd q0 = q ? *q : d.model->initial_positions();
+            d.model->check_state(q0, Eigen::VectorXd::Zero(d.model->num_velocities()));
+            d.data.reset_history(*d.model, q0);
+          },
+          py::arg("q") = py::none(), "A new run's history from configuration q (default: the initial one).");
 
   m.def(
       "simulate",

@@ -13,10 +13,13 @@ Data::Data(const Model& m)
       elastic(static_cast<std::size_t>(m.num_hinges())),
       hinges_(m.num_hinges()),
       nq_(m.num_positions()),
-      nv_(m.num_velocities()) {}
+      nv_(m.num_velocities()) {
+  reset_history(m, m.initial_positions());
+}
 
-void Data::reset_history() {
-  for (joint::LockHistory& h : locks) h = {};
+void Data::reset_history(const Model& m, const Eigen::VectorXd& q) {
+  for (joint::LockState& h : locks) h = joint::LockHistory{};
+  for (int k : m.locks()) locks[static_cast<std::size_t>(k)] = joint::start_state(*m.hinge(k).lock, q(m.body(k).iq_theta));
   impacts.clear();
 }
 

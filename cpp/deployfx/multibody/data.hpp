@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "deployfx/body/flexible_body.hpp"
-#include "deployfx/joint/hinge_lock.hpp"
+#include "deployfx/joint/lock.hpp"
 #include "deployfx/multibody/kinematics.hpp"
 #include "deployfx/multibody/model.hpp"
 
@@ -25,9 +25,11 @@ class Data {
   explicit Data(const Model& m);
 
   // History (written by accept() only, on accepted steps): per hinge (unused without a lock).
-  std::vector<joint::LockHistory> locks;
+  std::vector<joint::LockState> locks;
   /// Every contact of every lock wall so far, in order of onset (joint/impact_record.hpp).
   std::vector<joint::Impact> impacts;
+  /// The configuration of the last accepted step (what step_bounds resolves at).
+  Eigen::VectorXd accepted_q;
   // Memos of the panels' evaluations (per hinge; used for the panels only).
   std::vector<body::FlexibleBody::Workspace> panels;
 
@@ -57,8 +59,9 @@ class Data {
     Wrenches<Dual> wrenches;
   } pass;
 
-  /// Forgets the history (a new run).
-  void reset_history();
+  /// Forgets the history: a new run from the configuration q (the locks' start states depend on
+  /// their hinge angles: a groove arms the faces the pin is in front of).
+  void reset_history(const Model& m, const Eigen::VectorXd& q);
   /// Whether this Data was made for a model of m's shape.
   bool fits(const Model& m) const;
 

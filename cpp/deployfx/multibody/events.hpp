@@ -1,5 +1,5 @@
 #pragma once
-// The locks' contact events and history (joint/hinge_lock.hpp): the event functions the stepper
+// The locks' contact events and history (joint/lock.hpp): the event functions the stepper
 // locates in time (integrate/trajectory.hpp), the history updated on accepted steps only, and
 // the locks' limit on a Newton step across their friction band.
 #include <Eigen/Core>
@@ -9,8 +9,9 @@
 
 namespace deployfx::multibody {
 
-/// Two event functions per locked hinge (stop, latch), in hinge order; positive while each wall's
-/// mode holds (joint::lock_events) under d's history.
+/// The locks' event functions (joint::events: two per stop-and-latch lock, one per facet of a
+/// groove and its latch pin's drop), in hinge order; positive while each contact's mode holds
+/// under d's history.
 Eigen::VectorXd lock_events(const Model& m, const Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v);
 /// Updates d's lock histories after an accepted step ending at (q, v, t); an event function at or
 /// below its `margin` (lock_events' order; empty: 0) switches. A wall that closes gets its
@@ -22,10 +23,11 @@ void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::Vect
 /// against an impulse about its axis with every other coordinate free (the mass matrix, dr/da).
 /// On a deforming panel that is the fitting's and the root's, far below the panel's.
 double hinge_inverse_inertia(const Model& m, Data& d, const Eigen::VectorXd& q, double t, int k);
-/// integrate::SecondOrderSystem::step_bounds: on each hinge angle whose lock has a wall in
-/// contact, joint::contact_resolution's error / the pin radius (rad); empty with none.
+/// integrate::SecondOrderSystem::step_bounds at the last accepted state: on each hinge angle whose
+/// lock has a contact being resolved, joint::resolution's error (rad); empty with none.
 integrate::SecondOrderSystem::StepBounds step_bounds(const Model& m, const Data& d);
-/// The smallest of the locks' joint::friction_step_limit for the velocity change dv.
-double friction_step_limit(const Model& m, const Data& d, const Eigen::VectorXd& v, const Eigen::VectorXd& dv);
+/// The smallest of the locks' joint::friction_step_limit for the velocity change dv at (q, v).
+double friction_step_limit(const Model& m, const Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                           const Eigen::VectorXd& dv);
 
 }  // namespace deployfx::multibody

@@ -10,7 +10,7 @@ HingeTorque hinge_torque(const Model& m, const Data& d, int k) {
   out.d_theta = -h.k_theta;
   out.d_rate = -h.c_theta;
   if (h.lock) {
-    out.lock = joint::lock_load(*h.lock, d.locks[static_cast<std::size_t>(k)], J.theta, J.rate);
+    out.lock = joint::load(*h.lock, d.locks[static_cast<std::size_t>(k)], J.theta, J.rate);
     out.tau += out.lock.torque;
     out.d_theta += out.lock.d_theta;
     out.d_rate += out.lock.d_rate;

@@ -4,13 +4,13 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "deployfx/joint/hinge_lock.hpp"
+#include "deployfx/joint/lock.hpp"
 #include "deployfx/multibody/data.hpp"
 
 namespace deployfx::multibody {
 
 /// Hinge k's applied torque tau = tau0 - k_theta theta - c_theta theta' + the lock's
-/// (joint/hinge_lock.hpp) at (theta, theta'), with its derivatives.
+/// (joint/lock.hpp) at (theta, theta'), with its derivatives.
 struct HingeTorque {
   double tau = 0;      ///< N m
   double d_theta = 0;  ///< d tau / d theta, N m/rad

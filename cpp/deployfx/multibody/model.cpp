@@ -64,7 +64,7 @@ void check_hinge(const std::string& name, const HingeSpec& h, int k) {
   }
   if (h.lock) {
     try {
-      h.lock->validate();
+      joint::validate(*h.lock);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(name + "." + e.what());
     }

@@ -5,7 +5,7 @@
 //   panel: the residual's passes (kinematics.hpp) run on Duals seeded along that coordinate
 //   (seeds.hpp), with each body's force differentiated in closed form in its motion (a, al, w)
 //   (FloatingFrameInertia::inertial_force_jacobians, body/rigid_force_jacobian.hpp) and the
-//   lock's law in (theta, theta') (joint/hinge_lock); a z column reaches the parent panel's
+//   lock's torque in (theta, theta') (joint/lock.hpp); a z column reaches the parent panel's
 //   coordinates through z = P eta;
 // - each panel's own coordinates: its elastic block c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) +
 //   G_w(w) + K_T) with damping (docs/engine-design.md), and its wrench's derivatives in

@@ -37,7 +37,7 @@ Outputs outputs(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::
       const HingeTorque ht = hinge_torque(m, d, k);
       o.lock_force(k) = std::max(ht.lock.normal_force, 0.0);
       o.lock_torque(k) = ht.lock.torque;
-      o.latched(k) = d.locks[k].latched ? 1.0 : 0.0;
+      o.latched(k) = joint::latched(*h.lock, d.locks[k]) ? 1.0 : 0.0;
     }
     // Newton-Euler of the subtree: its inertial wrench is the reaction plus the applied torque
     // along the axis (spring, damper, lock), so the reaction is the wrench with its axial moment

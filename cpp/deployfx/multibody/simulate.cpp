@@ -7,7 +7,7 @@ namespace deployfx::multibody {
 RunResult simulate(const Model& m, Data& d, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                    const RunOptions& options, const integrate::Observer& record, const integrate::Poll& poll) {
   m.check_state(q0, v0);
-  d.reset_history();
+  d.reset_history(m, q0);
   TreeSystem system(m, d);
   integrate::NewtonOptions newton;
   newton.reuse_jacobian = options.reuse_jacobian;

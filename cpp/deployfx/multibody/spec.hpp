@@ -13,7 +13,7 @@
 
 #include "deployfx/body/flexible_body.hpp"
 #include "deployfx/body/rigid_inertia.hpp"
-#include "deployfx/joint/hinge_lock.hpp"
+#include "deployfx/joint/lock.hpp"
 
 namespace deployfx::multibody {
 
@@ -45,8 +45,9 @@ struct HingeSpec {
   double c_theta = 0;  ///< viscous damping, N m s/rad
   /// theta(t) prescribed (no coordinate) instead of the spring's dynamics.
   std::optional<SpinUpDriver> driver;
-  /// The lock at the deployed angle (absent: the hinge swings freely).
-  std::optional<joint::HingeLockSpec> lock;
+  /// The lock at the deployed angle, stop-and-latch walls or a pin in a groove (joint/lock.hpp;
+  /// absent: the hinge swings freely).
+  std::optional<joint::LockSpec> lock;
   /// The rigid parts turning with C, in C: the hinge fitting the spring, damper and lock act on,
   /// a yoke, brackets. Without a fitting the preload acts on a massless frame and drives a stiff,
   /// mesh-dependent root mode of a flexible panel (docs/engine-design.md).

@@ -51,8 +51,8 @@ void TreeSystem::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, doub
 
 integrate::SecondOrderSystem::StepBounds TreeSystem::step_bounds() { return multibody::step_bounds(m_, d_); }
 
-double TreeSystem::newton_step_limit(const Eigen::VectorXd&, const Eigen::VectorXd& v, const Eigen::VectorXd& dv) {
-  return friction_step_limit(m_, d_, v, dv);
+double TreeSystem::newton_step_limit(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& dv) {
+  return friction_step_limit(m_, d_, q, v, dv);
 }
 
 }  // namespace deployfx::multibody
