@@ -137,7 +137,7 @@ def test_reduced_panel_modes_round_trip_by_name(tmp_path, suffix):
 
 def test_toml_is_readable_text(paper, tmp_path):
     text = dfx.save_scene(paper.scene, tmp_path / "p.toml").read_text()
-    for line in ('schema = "deployfx.scene"', "version = 3", "[base]", "mass_kg = 3000.0",
+    for line in ('schema = "deployfx.scene"', "version = 4", "[base]", "mass_kg = 3000.0",
                  "[[hinges]]", 'parent = "base"', "stowed_angle_deg = 90.0", "modes = 10",
                  "[hinges.appendage.shell]", "[[hinges.appendage.shell.plies]]", "[hinges.lock]"):
         assert line in text
@@ -451,7 +451,7 @@ def test_version_1_file_is_read(tmp_path):
     loaded = dfx.load_scene(path)
     scene = _version_1_scene()
     d = scene_file.scene_to_dict(loaded)
-    assert d == scene_file.scene_to_dict(scene) and d["version"] == 3
+    assert d == scene_file.scene_to_dict(scene) and d["version"] == 4
     assert d["hinges"][0]["stowed_angle_deg"] == 0.0  # version 1 has none: theta is the angle
     reference = scene.compile().simulate(0.3, 0.01)
     assert reference.lock_force.max() > 0  # the lock law and friction act
@@ -459,8 +459,8 @@ def test_version_1_file_is_read(tmp_path):
 
 
 def _older(d: dict) -> tuple[dict, dict]:
-    """A version-3 dict of a serial chain in version 2's layout (``R_PE0``; the appendage's modes
-    under ``options``; no stowed angle), and the version-3 dict that layout reads back to (the
+    """A current dict of a serial chain in version 2's layout (``R_PE0``; the appendage's modes
+    under ``options``; no stowed angle), and the current dict that layout reads back to (the
     stowed angles 0)."""
     d = copy.deepcopy(d)
     for h in d["hinges"]:
@@ -477,7 +477,7 @@ def _older(d: dict) -> tuple[dict, dict]:
         a = h.get("appendage")
         if a is not None:
             a.update(a.pop("options"))
-    expected["version"] = 3
+    expected["version"] = scene_file.VERSION
     return d, expected
 
 
@@ -605,7 +605,7 @@ def test_version_2_file_is_read(tmp_path):
     loaded = dfx.load_scene(path)
     scene = _version_2_scene()
     d = scene_file.scene_to_dict(loaded)
-    assert d == scene_file.scene_to_dict(scene) and d["version"] == 3
+    assert d == scene_file.scene_to_dict(scene) and d["version"] == 4
     appendage = d["hinges"][1]["appendage"]
     assert (appendage["modes"], appendage["derivative_modes"]) == (3, 2)
     assert [h["stowed_angle_deg"] for h in d["hinges"]] == [0.0, 0.0]
@@ -691,8 +691,8 @@ def good(paper):
 
 
 @pytest.mark.parametrize("edit, match", [
-    (lambda d: d.update(version=4), (r"^version = 4 is an unknown scene-file schema version; "
-                                     r"this deployfx reads versions 1, 2, 3$")),
+    (lambda d: d.update(version=5), (r"^version = 5 is an unknown scene-file schema version; "
+                                     r"this deployfx reads versions 1, 2, 3, 4$")),
     (lambda d: d.update(version="3"), r"^version = '3' is an unknown"),
     (lambda d: d.update(version=3.0), r"^version = 3.0 is an unknown"),
     (lambda d: d.update(schema="other"), r"^schema = 'other' is not a deployfx scene"),
@@ -761,7 +761,7 @@ def test_bad_files_name_the_key(good, edit, match):
     (lambda d: _h(d, 1).update(yoke=1.0),
      (r"^hinges\[1\] has unknown key\(s\) hinges\[1\].yoke; allowed: parent, point_m, axis, "
       r"R_PC0, tau0_N_m, k_theta_N_m_per_rad, c_theta_N_m_s_per_rad, fitting, stowed_angle_deg, "
-      r"spin_up, parts, appendage, lock$")),
+      r"spin_up, parts, appendage, lock, groove$")),
     (lambda d: _h(d, 1).update(options={"parent": 0}),
      r"^hinges\[1\] has unknown key\(s\) hinges\[1\].options; allowed:"),
     (lambda d: _h(d, 0)["lock"].update(options={}),

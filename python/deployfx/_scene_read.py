@@ -12,7 +12,8 @@ import numpy as np
 from ._scene_schema import (_APPENDAGE_FILE_KEYS, _APPENDAGE_OPTIONAL, _HINGE_FILE_KEYS, _HINGE_OPTIONAL,
                             _STRENGTH_KEYS, _STRENGTH_OPTIONAL,
                             _ISOTROPIC, _LOCK_FILE_KEYS, _MATERIAL_UNITS, _OLD_APPENDAGE_OPTIONS, _ORTHOTROPIC,
-                            _PART_FILE_KEYS, SCHEMA, VERSIONS_READ)
+                            _PART_FILE_KEYS, SCHEMA, VERSIONS_READ, _GROOVE_ELEMENT_KEYS, _GROOVE_FILE_KEYS,
+                            _GROOVE_OPTIONAL, _LATCH_FILE_KEYS)
 from .contact import ContactLaw, Friction
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import ShellModel
@@ -192,21 +193,66 @@ def _read_appendage(scene: Scene, a: Any, where: str, k: int, version: int) -> N
         scene.set_appendage(shell, fixed, fidelity=a["fidelity"], damping=damping, hinge=k, **opts)
 
 
+def _read_law(d: Any, where: str) -> ContactLaw:
+    law = _table(d, where, ("kind", "K_N_per_m_n", "n", "D_N_s_per_m", "e"))
+    if not isinstance(law["kind"], str):
+        raise ValueError(f"{where}.kind must be a string, got {law['kind']!r}")
+    with _at(where):
+        return ContactLaw(law["kind"], K=_number(law["K_N_per_m_n"], f"{where}.K_N_per_m_n"),
+                          n=_number(law["n"], f"{where}.n"), D=_number(law["D_N_s_per_m"], f"{where}.D_N_s_per_m"),
+                          e=_number(law["e"], f"{where}.e"))
+
+
+def _read_friction(d: Any, where: str) -> Friction:
+    fr = _table(d, where, ("mu", "v_reg_m_per_s"))
+    with _at(where):
+        return Friction(_number(fr["mu"], f"{where}.mu"), _number(fr["v_reg_m_per_s"], f"{where}.v_reg_m_per_s"))
+
+
+def _read_groove(scene: Scene, g: Any, where: str, k: int) -> None:
+    """A version-4 pin-groove lock (deployfx.groove.PinGroove)."""
+    from .groove import Arc, ArcAbout, GrooveProfile, LatchSpring, Line, PinGroove
+
+    g = _table(g, where, _GROOVE_FILE_KEYS, _GROOVE_OPTIONAL)
+    elements = []
+    for i, e in enumerate(_list(g["profile"], f"{where}.profile", "the profile's elements in order")):
+        at = f"{where}.profile[{i}]"
+        kind = e.get("kind") if isinstance(e, Mapping) else None
+        if kind not in _GROOVE_ELEMENT_KEYS:
+            raise ValueError(f"{at}.kind = {kind!r} is invalid: must be one of {', '.join(_GROOVE_ELEMENT_KEYS)}")
+        e = _table(e, at, ("kind",) + _GROOVE_ELEMENT_KEYS[kind])
+        start, end = _array(e["start_m"], f"{at}.start_m", (2,)), _array(e["end_m"], f"{at}.end_m", (2,))
+        if kind == "line":
+            elements.append(Line(start, end))
+        elif kind == "arc":
+            elements.append(Arc(start, end, _number(e["radius_m"], f"{at}.radius_m")))
+        else:
+            if not isinstance(e["ccw"], bool):
+                raise ValueError(f"{at}.ccw must be true or false, got {e['ccw']!r}")
+            elements.append(ArcAbout(start, end, _array(e["centre_m"], f"{at}.centre_m", (2,)), e["ccw"]))
+    latch = None
+    if "latch" in g:
+        L = _table(g["latch"], f"{where}.latch", _LATCH_FILE_KEYS)
+        if not isinstance(L["toward_axis"], bool):
+            raise ValueError(f"{where}.latch.toward_axis must be true or false, got {L['toward_axis']!r}")
+        latch = LatchSpring(_number(L["stop_m"], f"{where}.latch.stop_m"),
+                            _number(L["travel_m"], f"{where}.latch.travel_m"),
+                            _number(L["preload_N"], f"{where}.latch.preload_N"),
+                            _number(L["stiffness_N_per_m"], f"{where}.latch.stiffness_N_per_m"), L["toward_axis"])
+    with _at(where):
+        groove = PinGroove(GrooveProfile(elements), _number(g["pin_distance_m"], f"{where}.pin_distance_m"),
+                           _number(g["pin_angle_rad"], f"{where}.pin_angle_rad"),
+                           _number(g["pin_radius_m"], f"{where}.pin_radius_m"),
+                           _read_law(g["law"], f"{where}.law"), _read_friction(g["friction"], f"{where}.friction"),
+                           latch)
+        scene.set_groove(groove, hinge=k)
+
+
 def _read_lock(scene: Scene, L: Any, where: str, k: int, version: int) -> None:
     L = _table(L, where, _LOCK_FILE_KEYS, ("options",) if version < 3 else ())
     _old_options(L, where, ())
-    law = _table(L["law"], f"{where}.law", ("kind", "K_N_per_m_n", "n", "D_N_s_per_m", "e"))
-    if not isinstance(law["kind"], str):
-        raise ValueError(f"{where}.law.kind must be a string, got {law['kind']!r}")
-    fr = _table(L["friction"], f"{where}.friction", ("mu", "v_reg_m_per_s"))
-    with _at(f"{where}.law"):
-        contact = ContactLaw(law["kind"], K=_number(law["K_N_per_m_n"], f"{where}.law.K_N_per_m_n"),
-                             n=_number(law["n"], f"{where}.law.n"),
-                             D=_number(law["D_N_s_per_m"], f"{where}.law.D_N_s_per_m"),
-                             e=_number(law["e"], f"{where}.law.e"))
-    with _at(f"{where}.friction"):
-        friction = Friction(_number(fr["mu"], f"{where}.friction.mu"),
-                            _number(fr["v_reg_m_per_s"], f"{where}.friction.v_reg_m_per_s"))
+    contact = _read_law(L["law"], f"{where}.law")
+    friction = _read_friction(L["friction"], f"{where}.friction")
     with _at(where):
         scene.set_lock(_number(L["theta_lock_rad"], f"{where}.theta_lock_rad"),
                        _number(L["pin_radius_m"], f"{where}.pin_radius_m"),
@@ -281,8 +327,14 @@ def _read_hinges(scene: Scene, top: Mapping[str, Any], version: int) -> None:
         _read_parts(scene, h.get("parts", []), f"{where}.parts", k)
         if "appendage" in h:
             _read_appendage(scene, h["appendage"], f"{where}.appendage", k, version)
+        if "lock" in h and "groove" in h:
+            raise ValueError(f"{where} has both a lock and a groove: a hinge has one lock")
         if "lock" in h:
             _read_lock(scene, h["lock"], f"{where}.lock", k, version)
+        if "groove" in h:
+            if version < 4:
+                raise ValueError(f"{where}.groove is not allowed in a version-{version} file (version 4 and later)")
+            _read_groove(scene, h["groove"], f"{where}.groove", k)
 
 
 def _read_base(scene: Scene, top: Mapping[str, Any]) -> None:

@@ -125,8 +125,16 @@ class GrooveProfile:
 
     @classmethod
     def _wrap(cls, impl) -> "GrooveProfile":
+        """A profile built in the core (stop_latch, paper), its elements read back: segments as
+        :class:`Line`, arcs as :class:`ArcAbout` (what a scene file writes)."""
         p = cls.__new__(cls)
-        p.elements = ()
+        elements = []
+        for k in range(impl.num_elements):
+            e = impl.element(k)
+            start, end = [float(x) for x in e.start], [float(x) for x in e.end]
+            elements.append(ArcAbout(start, end, [float(x) for x in e.centre], bool(e.sweep > 0))
+                            if e.is_arc else Line(start, end))
+        p.elements = tuple(elements)
         p._impl = impl
         return p
 
@@ -208,6 +216,8 @@ class PinGroove:
         if latch is not None and not isinstance(latch, LatchSpring):
             raise TypeError(f"latch must be a LatchSpring or None, got {type(latch).__name__}")
         self.profile, self.law, self.friction, self.latch = profile, law, friction, latch
+        self.pin_distance, self.pin_angle = as_float("pin_distance", pin_distance), as_float("pin_angle", pin_angle)
+        self.pin_radius = as_float("pin_radius", pin_radius)
         self._impl = _core.PinGrooveSpec(
             profile=profile._impl, pin_distance=as_float("pin_distance", pin_distance),
             pin_angle=as_float("pin_angle", pin_angle), pin_radius=as_float("pin_radius", pin_radius),
@@ -217,7 +227,14 @@ class PinGroove:
     def _wrap(cls, impl, law: ContactLaw, friction: Friction, latch: Optional[LatchSpring]) -> "PinGroove":
         g = cls.__new__(cls)
         g.profile, g.law, g.friction, g.latch, g._impl = GrooveProfile._wrap(impl.profile), law, friction, latch, impl
+        g.pin_distance, g.pin_angle, g.pin_radius = impl.pin_distance, impl.pin_angle, impl.pin_radius
         return g
+
+    @property
+    def play_deg(self) -> None:
+        """The pin's free play once held, deg of hinge travel: not defined for a general profile
+        (None; the settling metric then uses its 0.1 deg band)."""
+        return None
 
     @classmethod
     def stop_latch(cls, lock, rho: float, pin_angle: float = 0.0) -> "PinGroove":

@@ -36,7 +36,7 @@ class Impact:
     """One contact of a lock wall (SI units, in the field names)."""
 
     hinge: int
-    wall: str                         #: "stop" or "latch"
+    wall: str                         #: "stop" or "latch"; a groove's "facet k"
     t_onset_s: float
     t_separation_s: Optional[float]   #: None: the pin was still on the wall when the run ended
     v_approach_m_s: float             #: the pin's normal speed into the wall at onset
@@ -74,15 +74,23 @@ def _number(x) -> Optional[float]:
     return x if math.isfinite(x) else None
 
 
-def per_hinge(table: Mapping[str, np.ndarray], hinges: int) -> list[list[dict]]:
+def contact_names(lock) -> tuple:
+    """The names of a lock's contacts, by the engine's index: :data:`WALLS` for the stop-and-latch
+    lock, ``"facet k"`` for a groove's facets (deployfx.groove.PinGroove)."""
+    profile = getattr(lock, "profile", None)
+    return WALLS if profile is None else tuple(f"facet {k}" for k in range(profile.num_facets))
+
+
+def per_hinge(table: Mapping[str, np.ndarray], names: list) -> list[list[dict]]:
     """The engine's impact table (a dict of arrays, one entry per record) as each hinge's list of
-    record dicts (:meth:`Impact.as_dict`), in order of onset."""
-    out: list[list[dict]] = [[] for _ in range(hinges)]
+    record dicts (:meth:`Impact.as_dict`), in order of onset; ``names[k]`` names hinge k's
+    contacts (:func:`contact_names`)."""
+    out: list[list[dict]] = [[] for _ in names]
     n = len(table["t_onset"]) if table else 0
     for i in range(n):
         k = int(table["hinge"][i])
         out[k].append(Impact(
-            hinge=k, wall=WALLS[int(table["wall"][i])], t_onset_s=float(table["t_onset"][i]),
+            hinge=k, wall=names[k][int(table["wall"][i])], t_onset_s=float(table["t_onset"][i]),
             t_separation_s=_number(table["t_separation"][i]), v_approach_m_s=float(table["v_approach"][i]),
             v_rebound_m_s=_number(table["v_rebound"][i]), peak_force_N=float(table["peak_force"][i]),
             t_peak_s=float(table["t_peak"][i]), impulse_N_s=float(table["impulse"][i]),

@@ -24,6 +24,7 @@ from . import _core, impacts
 from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg
 from .integrators import GeneralizedAlpha
 from .plate import ShellModel
+from .groove import PinGroove
 from .results import Result
 from .specs import Fidelity, Link, RigidPart
 
@@ -306,7 +307,8 @@ class Model:
         meta.update(self.description)
         meta.update(metadata or {})
         hinge_info = hinge_info if stresses else self._hinge_metadata()
-        for k, records in enumerate(impacts.per_hinge(raw["impacts"], self.num_hinges)):
+        names = [impacts.contact_names(L.lock) for L in self.links]
+        for k, records in enumerate(impacts.per_hinge(raw["impacts"], names)):
             if self.links[k].lock is not None:
                 hinge_info[k]["impacts"] = records
         meta.update(base_free=self.base_free, hinges=hinge_info,
@@ -477,7 +479,9 @@ def compile_model(scene, description: Optional[dict]) -> Model:
                                     alpha_M=a.alpha_M, beta_K=a.beta_K, modes=a.modes,
                                     derivative_modes=-1 if a.derivative_modes is None else a.derivative_modes)
         lock = None
-        if link.lock is not None:
+        if isinstance(link.lock, PinGroove):
+            lock = link.lock._impl
+        elif link.lock is not None:
             L = link.lock
             try:
                 lock = _core.HingeLockSpec(theta_lock=L.theta_lock, pin_radius=L.pin_radius, clearance=L.clearance,

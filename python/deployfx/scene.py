@@ -188,10 +188,25 @@ class Scene:
                  friction: Friction = Friction(0.0), hinge: Optional[int] = None) -> "Scene":
         """The lock of hinge ``hinge`` (None: the last hinge declared): the pin (at ``pin_radius``
         m from the axis) seats at hinge travel ``theta_lock`` (rad); ``clearance`` (m) is its play
-        once latched; ``law`` the normal contact force, ``friction`` the groove's Coulomb friction
-        (joint/hinge_lock.hpp)."""
+        once latched; ``law`` the normal contact force, ``friction`` the Coulomb friction along the
+        pin's path (a stop wall in the hinge angle; a groove, :meth:`set_groove`, puts it along
+        the groove's tangent)."""
         k = self._index(hinge, "lock")
         self._replace(k, lock=Lock(theta_lock, pin_radius, clearance, law, friction))
+        return self
+
+    def set_groove(self, groove, *, hinge: Optional[int] = None) -> "Scene":
+        """The lock of hinge ``hinge`` (None: the last hinge declared) as a pin sliding in a groove
+        (:class:`deployfx.groove.PinGroove`: a profile of segments and arcs in the parent's hinge
+        plane, the pin on the hinge's body, the normal law along the profile's normal and Coulomb
+        friction along its tangent, You et al. 2016 Eq. 45; e.g. ``PinGroove.paper(law,
+        friction)``). It replaces a stop-and-latch lock set before."""
+        from .groove import PinGroove
+
+        if not isinstance(groove, PinGroove):
+            raise TypeError(f"groove must be a deployfx.groove.PinGroove, got {type(groove).__name__}")
+        k = self._index(hinge, "lock")
+        self._replace(k, lock=groove)
         return self
 
     # ------------------------------------------------------------------------------ compiling

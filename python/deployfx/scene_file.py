@@ -8,13 +8,13 @@ that gives bit-identical results. Every scene the builder expresses is written: 
 chain, or a tree of hinges (two wings), each with its spring, damper, fitting, prescribed angle,
 lock, panel and rigid parts.
 
-Schema ``deployfx.scene`` version 3 (written; versions 1, 2 and 3 are read). SI units throughout;
+Schema ``deployfx.scene`` version 4 (written; versions 1 to 4 are read). SI units throughout;
 every dimensional key ends with its unit (``_m``, ``_kg``, ``_kg_m2``, ``_N_m``, ``_per_s``, ...;
 ``_n`` in ``K_N_per_m_n`` is the law's exponent: N/m^n); unsuffixed numbers are dimensionless.
 Optional parts are simply left out (TOML has no null)::
 
     schema = "deployfx.scene"            # required
-    version = 3                          # required: the schema version
+    version = 4                          # required: the schema version
     units = "SI ..."                     # informative only
     content_sha256 = "..."               # written by save_scene: SHA-256 of the rest in
                                          #   canonical JSON; load_scene refuses a file that does
@@ -65,11 +65,20 @@ Optional parts are simply left out (TOML has no null)::
     law = {kind, K_N_per_m_n, n, D_N_s_per_m, e}     # deployfx.contact.ContactLaw
     friction = {mu, v_reg_m_per_s}                    # deployfx.contact.Friction
 
+    [hinges.groove]                      # optional, instead of a lock: Scene.set_groove(hinge=k)
+    pin_distance_m, pin_angle_rad, pin_radius_m       # deployfx.groove.PinGroove
+    law = {...}, friction = {...}                     # as the lock's
+    latch = {stop_m, travel_m, preload_N, stiffness_N_per_m, toward_axis}   # optional
+    [[hinges.groove.profile]]            # the profile's elements in order, in P's hinge plane:
+    kind = "line", start_m = [x, y], end_m = [x, y]                 # deployfx.groove.Line
+    kind = "arc", start_m, end_m, radius_m                          #   Arc
+    kind = "arc_about", start_m, end_m, centre_m, ccw = true        #   ArcAbout
+
 In TOML, a ``[hinges.appendage]``, ``[[hinges.parts]]``, ``[hinges.lock]``, ... header belongs to
 the hinge of the last ``[[hinges]]`` header above it (in JSON: ``"hinges": [{..., "parts": [...],
 "appendage": {...}, "lock": {...}}, ...]``).
 
-Older versions (read only): version 2 is a serial chain (hinge k's parent is k - 1), with
+Older versions (read only): version 3 is version 4 without grooves; version 2 is a serial chain (hinge k's parent is k - 1), with
 ``R_PE0`` for ``R_PC0``, a spin-up on hinge 0 only, no ``stowed_angle_deg``, and the appendage's
 ``modes`` and ``derivative_modes`` under ``options``; version 1 has one hinge in top-level tables
 ``[hinge]`` (``R_BE0``), ``[appendage]`` and ``[lock]``.
@@ -142,13 +151,42 @@ def _write_appendage(a: Appendage) -> dict:
     return out
 
 
+def _write_law(law) -> dict:
+    return {"kind": law.kind, "K_N_per_m_n": float(law.K), "n": float(law.n), "D_N_s_per_m": float(law.D),
+            "e": float(law.e)}
+
+
+def _write_friction(fr) -> dict:
+    return {"mu": float(fr.mu), "v_reg_m_per_s": float(fr.v_reg)}
+
+
 def _write_lock(L: Lock) -> dict:
-    law, fr = L.law, L.friction
     return {"theta_lock_rad": float(L.theta_lock), "pin_radius_m": float(L.pin_radius),
-            "clearance_m": float(L.clearance),
-            "law": {"kind": law.kind, "K_N_per_m_n": float(law.K), "n": float(law.n),
-                    "D_N_s_per_m": float(law.D), "e": float(law.e)},
-            "friction": {"mu": float(fr.mu), "v_reg_m_per_s": float(fr.v_reg)}}
+            "clearance_m": float(L.clearance), "law": _write_law(L.law), "friction": _write_friction(L.friction)}
+
+
+def _write_groove(g) -> dict:
+    """A pin-groove lock (deployfx.groove.PinGroove): its profile's elements in order, the pin,
+    the law, the friction and the latch spring."""
+    from .groove import ArcAbout, Line
+
+    elements = []
+    for e in g.profile.elements:
+        if isinstance(e, Line):
+            elements.append({"kind": "line", "start_m": _floats(e.start), "end_m": _floats(e.end)})
+        elif isinstance(e, ArcAbout):
+            elements.append({"kind": "arc_about", "start_m": _floats(e.start), "end_m": _floats(e.end),
+                             "centre_m": _floats(e.centre), "ccw": bool(e.ccw)})
+        else:
+            elements.append({"kind": "arc", "start_m": _floats(e.start), "end_m": _floats(e.end),
+                             "radius_m": float(e.radius)})
+    out = {"profile": elements, "pin_distance_m": float(g.pin_distance), "pin_angle_rad": float(g.pin_angle),
+           "pin_radius_m": float(g.pin_radius), "law": _write_law(g.law), "friction": _write_friction(g.friction)}
+    if g.latch is not None:
+        L = g.latch
+        out["latch"] = {"stop_m": float(L.stop), "travel_m": float(L.travel), "preload_N": float(L.preload),
+                        "stiffness_N_per_m": float(L.stiffness), "toward_axis": bool(L.toward_axis)}
+    return out
 
 
 def _write_hinge(link: Link) -> dict:
@@ -164,8 +202,10 @@ def _write_hinge(link: Link) -> dict:
     hinge["parts"] = [_part(p) for p in link.parts]
     if link.appendage is not None:
         hinge["appendage"] = _write_appendage(link.appendage)
-    if link.lock is not None:
+    if isinstance(link.lock, Lock):
         hinge["lock"] = _write_lock(link.lock)
+    elif link.lock is not None:
+        hinge["groove"] = _write_groove(link.lock)
     return hinge
 
 

@@ -18,6 +18,7 @@ import numpy as np
 from . import paper2016 as _paper
 from ._checks import check_field_types
 from .contact import ContactLaw, Friction
+from .groove import PinGroove
 from .integrators import GeneralizedAlpha, SimulationError
 from .materials import Isotropic, Laminate, Ply
 from .model import Model
@@ -69,6 +70,11 @@ class Paper2016Parameters:
     clearance: float = 0.2e-3                   #: m, play once latched (choice)
     contact: ContactLaw = ContactLaw("paper", K=1e6 / (1e-3) ** 1.5, n=1.5, D=1e6)  #: 1e6 N/mm^1.5, 1e3 N s/mm
     friction: Friction = Friction(0.25)         #: mu = 0.25
+    #: The lock's geometry: "stop-latch", walls in the hinge angle (a stop at 180 deg, a latch one
+    #: clearance before it; friction acts along the pin's path), or "groove", the pin on a latch
+    #: spring riding a track into a notch (deployfx.groove.PinGroove.paper, docs/research/
+    #: pin-groove.md; friction along the groove's tangent, Eq. 45).
+    lock_geometry: str = "stop-latch"
     base_free: bool = True
     #: Structural damping of the appendage, Rayleigh (alpha_M 1/s, beta_K s) (choice): the paper
     #: gives none, yet its vibration decays and it reports a steady state from 19.12 s, which
@@ -101,6 +107,8 @@ class Paper2016Scene:
 
     def __init__(self, p: Paper2016Parameters):
         fidelity = Fidelity.parse(p.model, "model")
+        if p.lock_geometry not in ("stop-latch", "groove"):
+            raise ValueError(f"lock_geometry = {p.lock_geometry!r} is invalid: must be 'stop-latch' or 'groove'")
         if isinstance(p.wings, bool) or p.wings not in (1, 2):
             raise ValueError(f"wings = {p.wings!r} is out of range: must be 1 or 2")
         self.parameters = p
@@ -121,7 +129,9 @@ class Paper2016Scene:
                             stowed_angle_deg=90.0)
             scene.set_appendage(shell, fixed, fidelity=fidelity, damping=p.damping, modes=p.modes,
                                 derivative_modes=p.derivative_modes, strengths=p.strengths)
-            if p.lock:
+            if p.lock and p.lock_geometry == "groove":
+                scene.set_groove(PinGroove.paper(p.contact, p.friction, seat=p.pin_radius, clearance=p.clearance))
+            elif p.lock:
                 scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, friction=p.friction)
         self.scene = scene  #: the :class:`Scene` before compile (e.g. for deployfx.save_scene)
         self.model = scene.compile(description={"scene": "paper2016", "layup": p.layup, "mesh": f"{p.nx}x{p.ny}",

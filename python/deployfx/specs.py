@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass, field
-from typing import Optional, Union
+from typing import Any, Optional, Union
 
 import numpy as np
 
@@ -314,9 +314,10 @@ class Lock:
 @dataclass(frozen=True, eq=False)
 class Link:
     """Hinge k of a scene and what its body carries: the rigid ``parts`` (in C_k), an
-    ``appendage`` (a panel) and a ``lock``."""
+    ``appendage`` (a panel) and a ``lock``: the stop-and-latch :class:`Lock` or a pin in a groove
+    (:class:`deployfx.groove.PinGroove`)."""
 
     hinge: Hinge
     parts: tuple = ()
     appendage: Optional[Appendage] = None
-    lock: Optional[Lock] = None
+    lock: Optional[Any] = None

@@ -33,7 +33,10 @@ LockLoad load(const LockSpec& lock, const LockState& state, double theta, double
   if (const auto* w = std::get_if<HingeLockSpec>(&lock)) return lock_load(*w, std::get<LockHistory>(state), theta, rate);
   const PinGrooveLoad g = pin_groove_load(std::get<PinGrooveSpec>(lock), std::get<PinGrooveHistory>(state), theta, rate);
   LockLoad out;
-  out.torque = g.torque, out.d_theta = g.d_theta, out.d_rate = g.d_rate, out.normal_force = g.normal_force;
+  // The lock force is the contacts' (the walls of the notch); the latch pin's support, which
+  // carries the spring's load while the pin rides its track, is not an impact.
+  out.torque = g.torque, out.d_theta = g.d_theta, out.d_rate = g.d_rate;
+  out.normal_force = g.normal_force - std::max(g.support_force, 0.0);
   return out;
 }
 

@@ -21,7 +21,8 @@ LockState start_state(const LockSpec& lock, double theta);
 /// Throws std::invalid_argument naming the bad parameter.
 void validate(const LockSpec& lock);
 
-/// The torque on theta (N m), its derivatives and the normal force (N, every contact's).
+/// The torque on theta (N m), its derivatives and the normal force (N, every contact's; a groove's
+/// latch-pin support excluded: it carries the spring, not an impact).
 LockLoad load(const LockSpec& lock, const LockState& state, double theta, double rate);
 
 /// The event functions (positive while each contact's mode holds; see joint::lock_events and

@@ -1,0 +1,103 @@
+"""The lock as a pin sliding in a groove, run by the engine (issue 24; joint/pin_groove.hpp through
+joint/lock.hpp; the geometry's own tests are tests/test_pin_groove.py).
+
+References:
+- a normal impact on a stop wall is unchanged by friction along the groove (the pin slides along
+  the wall only by r (1 - cos D), docs/research/pin-groove.md): Hunt-Crossley restitution from
+  the exact relation x - ln(1 + x) = -e x - ln(1 - e x) (Carvalho & Martins 2019), 1 %;
+- a cam-driven deployment with friction: a rigid body (J about the axis) on a spring
+  tau0 - k theta, its latch pin pressed by its spring (force N, constant on the circular track)
+  onto a track about the hinge axis at radius s: work-energy, KE = tau0 theta - k theta^2 / 2 -
+  mu N s theta, 1e-6 of the peak kinetic energy (measured 3e-8);
+- the paper's scene with the groove: its first lock at the paper's 2.46 s (Fig. 7), 0.03 s;
+- a scene file holds a groove: the same run, bit for bit.
+"""
+import numpy as np
+import pytest
+import scipy.optimize
+
+import deployfx as dfx
+from deployfx import scenes
+from deployfx.contact import ContactLaw, Friction
+from deployfx.groove import PinGroove
+from deployfx.specs import Lock
+
+R_PIN, J, W0, THETA_LOCK = 0.03, 12.0, 1.0, 0.05  # m, kg m^2, rad/s, rad (as test_lock_accuracy)
+
+
+def body_on_hinge(lock=None, groove=None, tau0=0.0, k_theta=0.0):
+    s = dfx.Scene().set_base(1.0, 1.0, free=False)
+    s.set_hinge(point=(0.0, 0, 0), axis=(0, 1, 0), tau0=tau0, k_theta=k_theta)
+    s.add_rigid_part(10.0, np.diag([J / 2, J, J / 2]), (0.0, 0, 0), body=0)
+    if lock is not None:
+        s.set_lock(lock.theta_lock, lock.pin_radius, lock.clearance, lock.law, friction=lock.friction)
+    if groove is not None:
+        s.set_groove(groove)
+    return s.compile()
+
+
+def swing(model):
+    lay = model.layout(0)
+    q0, v0 = model.initial_positions(), np.zeros(model.num_velocities)
+    q0[lay["iq_theta"]], v0[lay["iv_theta"]] = THETA_LOCK - 0.01, W0
+    return model.simulate(0.1, 0.01, q0=q0, v0=v0, progress=False)
+
+
+def test_friction_along_the_groove_leaves_a_normal_impact_alone():
+    x = 1.5 * (1 - 0.8)
+    e = scipy.optimize.brentq(lambda r: x - np.log1p(x) + r * x + np.log1p(-r * x), 0.5, 1.0)
+    law = ContactLaw("hunt-crossley", K=3e10, e=0.8)
+    rebound = {}
+    for mu in (0.0, 0.25):
+        lock = Lock(THETA_LOCK, R_PIN, 0.9 * np.pi * R_PIN, law, Friction(mu))
+        r = swing(body_on_hinge(groove=PinGroove.stop_latch(lock, rho=0.005)))
+        first = r.impacts[0]
+        assert first.wall == "facet 0" and first.t_separation_s is not None  # the stop
+        rebound[mu] = first.restitution
+        assert rebound[mu] == pytest.approx(e, rel=0.01)
+    assert abs(rebound[0.25] - rebound[0.0]) < 1e-3 * rebound[0.0]
+    # Today's walls in the hinge angle put the friction along the pin's path, i.e. the normal:
+    # it damps the impact (the defect the groove removes).
+    lock = Lock(THETA_LOCK, R_PIN, 0.9 * np.pi * R_PIN, law, Friction(0.25))
+    assert swing(body_on_hinge(lock=lock)).impacts[0].restitution < 0.9 * e
+
+
+def test_cam_driven_deployment_balances_spring_work_kinetic_energy_and_friction():
+    tau0, k = 7.2, 1.0  # N m, N m/rad
+    for mu in (0.0, 0.25):
+        groove = PinGroove.paper(ContactLaw("paper", K=3.162e10, n=1.5, D=1e6), Friction(mu))
+        r = body_on_hinge(groove=groove, tau0=tau0, k_theta=k).simulate(3.0, 0.01, progress=False).hinge(0)
+        on_track = groove.position(0.5, groove.start_history(0.0))
+        assert on_track["found"] and not on_track["bottomed"]
+        N = groove.latch.preload + groove.latch.stiffness * on_track["w"]  # N, the pin's radial balance
+        theta = np.radians(r.deployment_angle)
+        ride = r.t < r.impacts[0].t_onset_s - 0.3  # on the track, before the notch
+        assert theta[ride][-1] > 1.0
+        energy = tau0 * theta - k * theta**2 / 2 - mu * N * on_track["s"] * theta
+        assert np.abs(r.kinetic_energy[ride] - energy[ride]).max() < 1e-6 * r.kinetic_energy.max()
+
+
+@pytest.mark.parametrize("model", ["rigid", "reduced-linear"])
+def test_the_papers_scene_with_the_groove_locks_at_the_papers_time(model):
+    r = scenes.paper2016(2, model, nx=4, ny=2, lock_geometry="groove").simulate(4.0, 0.01).hinge(0)
+    s = r.summary()
+    assert s["first_lock_time_s"] == pytest.approx(2.46, abs=0.03)
+    assert r.latched[-1] == 1.0 and r.latched[0] == 0.0
+    assert all(i.wall.startswith("facet ") for i in r.impacts)
+
+
+def test_a_scene_file_holds_a_groove(tmp_path):
+    sc = scenes.paper2016(2, "rigid", nx=2, ny=1, lock_geometry="groove")
+    path = dfx.save_scene(sc.scene, tmp_path / "groove.toml")
+    back = dfx.load_scene(path)
+    assert dfx.scene_file.scene_to_dict(back) == dfx.scene_file.scene_to_dict(sc.scene)
+    a, b = sc.model.simulate(3.0, 0.01), back.compile().simulate(3.0, 0.01)
+    assert np.array_equal(a.q, b.q) and a.impacts == b.impacts
+
+
+def test_bad_groove_input_is_named():
+    scene = dfx.Scene().set_base(1.0, 1.0).set_hinge(point=(0, 0, 0), axis=(0, 1, 0))
+    with pytest.raises(TypeError, match="groove must be a deployfx.groove.PinGroove"):
+        scene.set_groove(Lock(1.0, 0.03, 1e-4, ContactLaw("hunt-crossley", K=1e9, e=0.8)))
+    with pytest.raises(ValueError, match="lock_geometry = 'slot' is invalid"):
+        scenes.paper2016(2, "rigid", nx=2, ny=1, lock_geometry="slot")
