@@ -101,3 +101,36 @@ def test_bad_groove_input_is_named():
         scene.set_groove(Lock(1.0, 0.03, 1e-4, ContactLaw("hunt-crossley", K=1e9, e=0.8)))
     with pytest.raises(ValueError, match="lock_geometry = 'slot' is invalid"):
         scenes.paper2016(2, "rigid", nx=2, ny=1, lock_geometry="slot")
+
+
+@pytest.mark.parametrize("pin_radius", [1e-3, 0.1])
+@pytest.mark.parametrize("mu", [0.0, 1.0])
+@pytest.mark.parametrize("K", [1e3, 1e12])
+def test_extremes_of_stiffness_friction_and_pin_radius(K, mu, pin_radius):
+    # Issue 24's ranges at the default step, on the stop-latch groove. Every run completes with
+    # finite values and never gains energy (the spring-free body only loses kinetic energy to the
+    # law's hysteresis, 1e-9 of it for round-off). Where the impact's penetration scale v0 T
+    # (contact.impact's time scale T of the pin's effective mass J / r^2) is well inside the
+    # walls (a quarter of their reach, rho + r / 4), it rebounds as the closed form says
+    # (Hunt-Crossley e = 0.8, 1 %); a softer law lets the pin through the walls' ends, a stop
+    # that is not one, and is only required to stay finite.
+    from deployfx import _core
+
+    x = 1.5 * (1 - 0.8)
+    e = scipy.optimize.brentq(lambda r: x - np.log1p(x) + r * x + np.log1p(-r * x), 0.5, 1.0)
+    law = ContactLaw("hunt-crossley", K=K, e=0.8)
+    lock = Lock(THETA_LOCK, pin_radius, 0.9 * np.pi * pin_radius, law, Friction(mu))
+    rho = 0.1 * pin_radius
+    model = body_on_hinge(groove=PinGroove.stop_latch(lock, rho=rho))
+    lay = model.layout(0)
+    q0, v0 = model.initial_positions(), np.zeros(model.num_velocities)
+    q0[lay["iq_theta"]], v0[lay["iv_theta"]] = THETA_LOCK - 0.01, W0
+    speed = W0 * pin_radius
+    T = _core.impact_time_scale(law._impl, J / pin_radius**2, speed)
+    r = model.simulate(max(0.2, 0.01 + 10 * T), 0.01, q0=q0, v0=v0, progress=False)
+    assert np.all(np.isfinite(r.q)) and np.all(np.isfinite(r.lock_force))
+    assert r.kinetic_energy.max() <= r.kinetic_energy[0] * (1 + 1e-9)
+    if speed * T < (rho + pin_radius / 4) / 4:
+        first = r.impacts[0]
+        assert first.t_separation_s is not None
+        assert first.restitution == pytest.approx(e, rel=0.01)
