@@ -188,8 +188,10 @@ class Scene:
                  friction: Friction = Friction(0.0), hinge: Optional[int] = None) -> "Scene":
         """The lock of hinge ``hinge`` (None: the last hinge declared): the pin (at ``pin_radius``
         m from the axis) seats at hinge travel ``theta_lock`` (rad); ``clearance`` (m) is its play
-        once latched; ``law`` the normal contact force, ``friction`` the groove's Coulomb friction
-        (joint/hinge_lock.hpp)."""
+        once latched; ``law`` the normal contact force, ``friction`` the groove's Coulomb friction.
+        The lock is a stop at ``theta_lock`` and, once the pin has passed the latch, a latch that
+        holds it back: the pin rests anywhere in the ``clearance`` between them."""
+        # Engine: cpp/deployfx/joint/hinge_lock.hpp.
         k = self._index(hinge, "lock")
         self._replace(k, lock=Lock(theta_lock, pin_radius, clearance, law, friction))
         return self
