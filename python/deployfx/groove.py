@@ -8,12 +8,15 @@ along the contact normal n, friction mu F_n along the tangent t). SI units: m, r
   :meth:`GrooveProfile.query` gives a pin's gap, normal, tangent and their derivatives.
 - A :class:`PinGroove` is a pin of radius ``pin_radius`` on the child body, at ``pin_distance``
   from the axis in direction ``pin_angle`` (or on a :class:`LatchSpring`, a massless follower),
-  against a profile: the torque on the hinge angle theta and its derivatives
-  (cpp/deployfx/joint/pin_groove.hpp, the model and its limits).
+  against a profile: the torque on the hinge angle theta and its derivatives. The pin is a
+  circle whose centre carries the forces (its own spin, theta' rho at its rim, is neglected against
+  its centre's speed); each facet of the profile is one contact, armed only once the pin has been
+  on its free side, so a latch face behind the pin acts only after the pin has passed it.
 - :meth:`PinGroove.stop_latch` expresses today's stop-plus-latch lock (:class:`deployfx.specs.Lock`)
   as one profile; :meth:`PinGroove.paper` the groove chosen for the paper's scene
   (docs/research/pin-groove.md).
 """
+# The engine's model and its limits, for developers: cpp/deployfx/joint/pin_groove.hpp.
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -194,7 +197,7 @@ class Load:
 
 
 class PinGroove:
-    """A hinge lock: a pin against a groove profile (cpp/deployfx/joint/pin_groove.hpp).
+    """A hinge lock: a pin against a groove profile (the model: this module's docstring).
 
     profile : :class:`GrooveProfile` in the parent's hinge plane (m).
     pin_distance : the pin centre's distance from the hinge axis, m (> 0; unused with a latch).
@@ -310,7 +313,8 @@ class PinGroove:
                                     _finite("rate", rate, "rad/s"), m)
 
 
-#: The paper groove's parameters (joint/lock_profiles.hpp, docs/research/pin-groove.md).
+#: The paper groove's parameters (m, rad, N m; docs/research/pin-groove.md).
+# Engine: cpp/deployfx/joint/lock_profiles.hpp.
 PAPER_DEFAULTS = {k: getattr(_core.PaperGrooveParameters(), k) for k in (
     "theta_lock", "pin_angle", "seat", "pin_radius", "notch_depth", "clearance", "stop_height", "track_start",
     "preload", "stiffness", "stop_below_seat", "travel")}

@@ -1,6 +1,5 @@
 """The lock's impacts: one record per contact of a lock wall, onset to separation, written by the
-engine from every accepted step of a run (``cpp/deployfx/joint/impact_record.hpp``), not from the
-output samples.
+engine from every accepted step of a run, not from the output samples.
 
 Inside a contact the engine takes the steps that resolve it, whatever the output step ``dt``
 (``Result.metadata["contact_steps"]`` counts them): each impact's peak force and maximum
@@ -27,7 +26,8 @@ import numpy as np
 __all__ = ["Impact", "WALLS", "peak_force"]
 
 #: The lock's walls, by the engine's index: the stop at the deployed angle, and the latch that
-#: holds the pin back once it has passed (joint/hinge_lock.hpp).
+#: holds the pin back once it has passed.
+# Engine: cpp/deployfx/joint/hinge_lock.hpp (walls), joint/impact_record.hpp (the records).
 WALLS = ("stop", "latch")
 
 

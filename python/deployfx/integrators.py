@@ -6,12 +6,13 @@ Schemes are small immutable descriptions; the stepping runs in C++ with the GIL 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Union
+from typing import Optional, Sequence, Union
 
 import numpy as np
+import scipy.sparse
 
 from . import _core
-from ._checks import as_float
+from ._checks import as_float, as_int_sequence
 
 
 @dataclass(frozen=True)
@@ -74,14 +75,65 @@ def _check_scheme(scheme: object) -> Scheme:
     return scheme
 
 
-def simulate_linear(M, C, K, q0, v0, t_end: float, dt: float, scheme: Scheme = Newmark()) -> Trajectory:
+def _square(name: str, A, n: Optional[int]) -> np.ndarray:
+    """``A`` (a numpy array, an array-like or any scipy.sparse matrix) as a dense float (n x n)
+    array; ValueError naming ``name`` for another shape or a non-finite entry."""
+    if scipy.sparse.issparse(A):
+        A = A.toarray()
+    try:
+        a = np.atleast_2d(np.asarray(A, dtype=float))
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name} must be a real matrix (numpy array or scipy.sparse), "
+                        f"got {type(A).__name__}: {e}") from None
+    if a.ndim != 2 or a.shape[0] != a.shape[1] or (n is not None and a.shape[0] != n):
+        want = "square (n x n)" if n is None else f"({n} x {n}), the size of M"
+        raise ValueError(f"{name} must be {want}, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite, got NaN or inf")
+    return a
+
+
+def _vector(name: str, x, n: int) -> np.ndarray:
+    a = np.atleast_1d(np.asarray(x, dtype=float))
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be {n} finite numbers (one per row of M), got shape {a.shape}")
+    return a
+
+
+def simulate_linear(M, C, K, q0, v0, t_end: float, dt: float, scheme: Scheme = Newmark(), *,
+                    fixed_dofs: Optional[Sequence[int]] = None) -> Trajectory:
     """Integrate ``M a + C v + K q = 0`` from ``(q0, v0)`` at t = 0 to ``t_end`` (s) with step
-    ``dt`` (s). Raises :class:`SimulationError` (with the partial trajectory) if a step fails."""
-    d = _core.simulate_linear(np.atleast_2d(np.asarray(M, float)), np.atleast_2d(np.asarray(C, float)),
-                              np.atleast_2d(np.asarray(K, float)), np.atleast_1d(np.asarray(q0, float)),
-                              np.atleast_1d(np.asarray(v0, float)), as_float("t_end", t_end),
+    ``dt`` (s), holding the dofs ``fixed_dofs`` at zero.
+
+    ``M``, ``C``, ``K``: (n x n) matrices, numpy arrays or any scipy.sparse format (what
+    :meth:`deployfx.ShellModel.stiffness_matrix` and ``mass_matrix`` return); ``q0``, ``v0``: n
+    values. ``fixed_dofs``: dof indices in [0, n) held at zero (e.g. ``Plate.fixed_dofs("CFFF")``):
+    their rows and columns are removed before the run and their entries of ``q0`` and ``v0`` must
+    be zero. The returned :class:`Trajectory` has all n columns (zeros at the fixed dofs). The
+    solve is dense (the matrices of the free dofs are copied into dense arrays): meant for systems
+    of up to a few thousand dofs. Raises ValueError or TypeError naming a bad argument, and
+    :class:`SimulationError` (with the partial trajectory) if a step fails."""
+    M = _square("M", M, None)
+    n = M.shape[0]
+    C, K = _square("C", C, n), _square("K", K, n)
+    q0, v0 = _vector("q0", q0, n), _vector("v0", v0, n)
+    free = np.arange(n)
+    if fixed_dofs is not None:
+        fixed = np.asarray(as_int_sequence("fixed_dofs", fixed_dofs), dtype=int)
+        bad = fixed[(fixed < 0) | (fixed >= n)]
+        if bad.size:
+            raise ValueError(f"fixed_dofs = {int(bad[0])} is out of range: must be in [0, {n - 1}] (the rows of M)")
+        for name, x in (("q0", q0), ("v0", v0)):
+            moved = fixed[x[fixed] != 0]
+            if moved.size:
+                raise ValueError(f"{name}[{int(moved[0])}] = {float(x[moved[0]])!r}: a fixed dof must start at 0")
+        free = np.setdiff1d(free, fixed)
+    ix = np.ix_(free, free)
+    d = _core.simulate_linear(M[ix], C[ix], K[ix], q0[free], v0[free], as_float("t_end", t_end),
                               as_float("dt", dt), _check_scheme(scheme)._params())
-    tr = Trajectory(d["t"], d["q"], d["v"], np.asarray(d["newton_iterations"]))
+    q, v = (np.zeros((len(d["t"]), n)) for _ in range(2))
+    q[:, free], v[:, free] = d["q"], d["v"]
+    tr = Trajectory(d["t"], q, v, np.asarray(d["newton_iterations"]))
     if d["failure"]:
         raise SimulationError(d["failure"], tr)
     return tr

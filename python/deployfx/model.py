@@ -224,7 +224,9 @@ class Model:
         return self.core.initial_positions()
 
     def residual(self, q, v, a, t: float = 0.0, *, data=None) -> np.ndarray:
-        """r(q, v, a, t): the equations of motion (multibody/residual.hpp)."""
+        """r(q, v, a, t): the residual of the equations of motion, one entry per velocity (zero
+        on a trajectory): the inertia, elastic, spring, damper and lock forces of every body."""
+        # Engine: cpp/deployfx/multibody/residual.hpp.
         return self.core.residual(q, v, a, t, data=data)
 
     def newton_matrix(self, q, v, a, t: float, c_a: float, c_v: float, c_q: float, *, data=None) -> np.ndarray:

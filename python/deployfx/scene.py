@@ -190,7 +190,10 @@ class Scene:
         m from the axis) seats at hinge travel ``theta_lock`` (rad); ``clearance`` (m) is its play
         once latched; ``law`` the normal contact force, ``friction`` the Coulomb friction along the
         pin's path (a stop wall in the hinge angle; a groove, :meth:`set_groove`, puts it along
-        the groove's tangent)."""
+        the groove's tangent). The lock is a stop at ``theta_lock`` and, once the pin has passed
+        the latch, a latch that holds it back: the pin rests anywhere in the ``clearance`` between
+        them."""
+        # Engine: cpp/deployfx/joint/hinge_lock.hpp.
         k = self._index(hinge, "lock")
         self._replace(k, lock=Lock(theta_lock, pin_radius, clearance, law, friction))
         return self

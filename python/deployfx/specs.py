@@ -276,7 +276,7 @@ class Appendage:
 
 @dataclass(frozen=True)
 class Lock:
-    """The hinge lock (joint/hinge_lock.hpp): the pin at ``pin_radius`` (m) from the axis seats at
+    """The hinge lock: the pin at ``pin_radius`` (m) from the axis seats at
     hinge travel ``theta_lock`` (rad); ``clearance`` (m) is its play once latched; ``law`` the
     normal contact force, ``friction`` the groove's Coulomb friction."""
 
