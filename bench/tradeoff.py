@@ -139,6 +139,7 @@ def saved_reference(args, ref: Case):
     same = (m.get("model") == ref.model and m.get("mesh") == ref.mesh and m.get("dt") == ref.dt
             and m.get("tolerance") == ref.tolerance and m.get("layup") == args.layup
             and m.get("integrator_label") == scheme_label(ref.scheme)
+            and m.get("lock_geometry", "stop-latch") == args.lock_geometry
             and m.get("t_end", 0.0) >= args.t_end)
     if not same:
         print(f"{path} does not match the reference {ref.name}, t_end {args.t_end:g}: running it")
@@ -173,6 +174,9 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=1, help="timed runs per case (median wall time)")
     ap.add_argument("--reuse-reference", action="store_true",
                     help="load --out/reference.npz if it matches the reference case")
+    ap.add_argument("--lock-geometry", default="groove", choices=("groove", "stop-latch"),
+                    help="the paper scene's lock (default groove, the scene's; the table before "
+                         "session 17 was measured with stop-latch)")
     args = ap.parse_args()
 
     meshes = args.meshes or (["4x3", "6x4"] if args.quick else list(MESHES))
@@ -191,7 +195,7 @@ def main() -> None:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
-    print(f"paper2016 lay-up {args.layup}, t_end = {args.t_end:g} s; sweeps "
+    print(f"paper2016 lay-up {args.layup}, {args.lock_geometry} lock, t_end = {args.t_end:g} s; sweeps "
           f"{' '.join(args.sweeps)}; base {base_mesh}, dt {args.base_dt:g} s, GA(0.8); "
           f"reference {ref.name}; {len(cases)} cases; core built for {dfx._core.simd}")
     start = time.perf_counter()
@@ -200,7 +204,7 @@ def main() -> None:
     def progress(row, result):
         if row["is_reference"] and result is not None and isinstance(reference, Case):
             keep = ("t", "lock_force", "node_E_deflection", "deployment_angle")
-            meta = dict(result.metadata, layup=args.layup, mesh=ref.mesh,
+            meta = dict(result.metadata, layup=args.layup, mesh=ref.mesh, lock_geometry=args.lock_geometry,
                         integrator_label=scheme_label(ref.scheme))
             dfx.Result({k: result[k] for k in keep}, {k: result.units[k] for k in keep},
                        meta).save(out / "reference.npz")
@@ -209,7 +213,7 @@ def main() -> None:
               f"wall {row['wall_time_s']:8.3f} s{note}", flush=True)
 
     rows = dfx.tradeoff(cases, reference, args.t_end, layup=args.layup, repeat=args.repeat,
-                        callback=progress)
+                        scene_overrides={"lock_geometry": args.lock_geometry}, callback=progress)
     total = time.perf_counter() - start
 
     # Speed-up over the reference, run in the same process: ratios survive a noisy machine.

@@ -34,8 +34,15 @@ PAPER = scenes.Paper2016Parameters()
 THETA_LOCK = np.pi / 2  # hinge travel at the stop (90 -> 180 deg of deployment)
 
 
+def stop_latch_paper(*args, **overrides):
+    """The paper's scene with its stop-and-latch lock: walls in the hinge angle with no ride
+    friction before the stop, the geometry the closed forms below describe (the default groove's
+    riding pin delays the lock by ~3 ms: tests/test_groove_lock.py covers its extremes)."""
+    return scenes.paper2016(*args, **{"lock_geometry": "stop-latch", **overrides})
+
+
 def rigid_scene(**overrides):
-    return scenes.paper2016(2, "rigid", nx=2, ny=1, **overrides)
+    return stop_latch_paper(2, "rigid", nx=2, ny=1, **overrides)
 
 
 def simulate(scene, t_end, dt, **options):
@@ -261,7 +268,7 @@ def test_contact_stiffness_extremes_with_a_flexible_panel(K):
     # 1e12; at 1e3 the ringing plate's root moment pushes the pin 1.1 deg into the dashpot-like
     # wall, well inside the bound, which only the impulse of a single impact makes tight).
     law = ContactLaw("paper", K=K, n=1.5, D=PAPER.contact.D)
-    r = simulate(scenes.paper2016(2, "linear", nx=2, ny=1, contact=law), 3.5, 0.01)
+    r = simulate(stop_latch_paper(2, "linear", nx=2, ny=1, contact=law), 3.5, 0.01)
     assert finite(r)
     s = r.summary()
     assert s["first_lock_time_s"] == pytest.approx(PAPER_2BODY.time_to(THETA_LOCK), rel=0.03)
@@ -282,20 +289,22 @@ T_END = {1e-5: 0.02, 1e-4: 0.2, 1e-3: 1.0, 1e-2: 3.0, 5e-2: 3.0}  # <= 2000 step
 
 
 @functools.lru_cache(maxsize=None)
-def dt_run(model, dt):
+def dt_run(model, dt, lock_geometry="stop-latch"):
     try:
-        return simulate(scenes.paper2016(2, model, nx=2, ny=1), T_END[dt], dt), None
+        return simulate(scenes.paper2016(2, model, nx=2, ny=1, lock_geometry=lock_geometry), T_END[dt], dt), None
     except SimulationError as e:
         return e.result.hinge(0), e
 
 
+@pytest.mark.parametrize("lock_geometry", ["stop-latch", "groove"])
 @pytest.mark.parametrize("dt", DTS)
 @pytest.mark.parametrize("model", ["rigid", "linear", "nonlinear"])
-def test_any_step_completes_or_stops_with_a_clear_error(model, dt):
+def test_any_step_completes_or_stops_with_a_clear_error(model, dt, lock_geometry):
     # Issue 6: never NaN. A run either completes (all series finite, momentum at round-off: the base
     # rows are solved as Pi(q, v) = Pi_0 at any step, 1e-11 of the base's peak) or raises
-    # SimulationError saying what failed and when, with finite partial results up to then.
-    r, error = dt_run(model, dt)
+    # SimulationError saying what failed and when, with finite partial results up to then. Either
+    # lock (the groove's riding pin delays the lock by ~3 ms, inside the 3 % below).
+    r, error = dt_run(model, dt, lock_geometry)
     assert finite(r)
     if error is not None:
         assert re.search(r"at t = [0-9.e+-]+ s", str(error)), str(error)
@@ -372,7 +381,7 @@ def test_a_diverging_run_stops_with_a_clear_error():
     omega_max = np.sqrt(scipy.linalg.eigh(K, M, eigvals_only=True).max())
     beta, gamma, dt = 0.01, 0.5, 0.01
     assert omega_max * dt > 100 / np.sqrt(gamma / 2 - beta)
-    sc = scenes.paper2016(2, "linear", nx=2, ny=1, lock=False)
+    sc = stop_latch_paper(2, "linear", nx=2, ny=1, lock=False)
     with pytest.raises(SimulationError, match=r"diverged: the total energy grew .* at t = ") as e:
         sc.simulate(0.5, dt, scheme=dfx.integrators.Newmark(beta=beta, gamma=gamma))
     partial = e.value.result

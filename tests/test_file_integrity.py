@@ -214,21 +214,21 @@ def paper():
 
 def test_a_toml_scene_cut_at_a_table_boundary_is_an_error_not_a_scene_without_its_lock(
         tmp_path, paper):
-    """The issue's case: the file cut just before [hinges.lock] parsed as valid TOML and loaded as
-    the scene without its lock."""
+    """The issue's case: the file cut just before the lock's table ([hinges.lock], here the paper
+    scene's [hinges.groove]) parsed as valid TOML and loaded as the scene without its lock."""
     path = tmp_path / "s.toml"
     dfx.save_scene(paper, path)
     text = path.read_text()
     cut = tmp_path / "cut.toml"
-    cut.write_text(text[: text.index("[hinges.lock]")])
+    cut.write_text(text[: text.index("[hinges.groove]")])
     with pytest.raises(ValueError, match=r"cut\.toml is truncated or was changed"):
         dfx.load_scene(cut)
     # The same content without the check line is the old, unchecked format: it loads, and is
     # indeed a different scene (no lock) - what the check prevents.
     unchecked = tmp_path / "unchecked.toml"
-    unchecked.write_text("\n".join(l for l in text[: text.index("[hinges.lock]")].splitlines()
+    unchecked.write_text("\n".join(l for l in text[: text.index("[hinges.groove]")].splitlines()
                                    if not l.startswith("content_sha256")))
-    assert "lock" not in scene_file.scene_to_dict(dfx.load_scene(unchecked))["hinges"][0]
+    assert "groove" not in scene_file.scene_to_dict(dfx.load_scene(unchecked))["hinges"][0]
 
 
 @pytest.mark.parametrize("suffix", [".toml", ".json"])
@@ -255,7 +255,7 @@ def test_a_scene_edited_after_saving_is_refused_until_its_check_is_removed(tmp_p
     with pytest.raises(ValueError, match="truncated or was changed"):
         dfx.load_scene(path)
     path.write_text("\n".join(l for l in edited.splitlines() if "content_sha256" not in l))
-    assert scene_file.scene_to_dict(dfx.load_scene(path))["hinges"][0]["lock"]["friction"][
+    assert scene_file.scene_to_dict(dfx.load_scene(path))["hinges"][0]["groove"]["friction"][
         "mu"] == 0.3
 
 

@@ -21,6 +21,7 @@ from scipy.spatial.transform import Rotation
 import deployfx as dfx
 from deployfx import _core, scenes
 from deployfx import paper2016 as paper
+from deployfx.groove import PinGroove
 from deployfx.integrators import GeneralizedAlpha
 
 from test_hinge_chain import Ry, check_jacobians, random_state, rod
@@ -80,7 +81,9 @@ def paper_scene_in_turned_axes(p, R=R0):
              .set_hinge(R.T @ np.array([p.hinge_x, 0, 0]), R.T @ Y, R_BE0=R.T @ Ry(-np.pi / 2), tau0=p.tau0,
                         k_theta=p.k_theta, c_theta=p.c_theta, fitting_inertia=p.fitting_inertia, stowed_angle_deg=90.0)
              .set_appendage(shell, plate.fixed_dofs("CFFF"), fidelity=p.model, damping=p.damping, modes=p.modes))
-    if p.lock:
+    if p.lock and p.lock_geometry == "groove":  # the lock lives in the hinge's plane: unturned
+        scene.set_groove(PinGroove.paper(p.contact, p.friction, seat=p.pin_radius, clearance=p.clearance))
+    elif p.lock:
         scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, friction=p.friction)
     return scene.compile()
 

@@ -93,6 +93,16 @@ def test_a_scene_file_holds_a_groove(tmp_path):
     assert dfx.scene_file.scene_to_dict(back) == dfx.scene_file.scene_to_dict(sc.scene)
     a, b = sc.model.simulate(3.0, 0.01), back.compile().simulate(3.0, 0.01)
     assert np.array_equal(a.q, b.q) and a.impacts == b.impacts
+    # The play (0.2 mm at the 30 mm seat: 0.382 deg) is kept, and with it the settling band.
+    assert back.compile().lock_play_deg == sc.model.lock_play_deg == pytest.approx((np.degrees(0.2e-3 / 0.03),))
+    same = [{k: v for k, v in r.summary().items() if k != "wall_time_s"} for r in (a, b)]
+    assert same[0] == same[1]
+
+
+def test_the_groove_play_is_checked():
+    profile = PinGroove.paper(ContactLaw("hunt-crossley", K=1e9, e=0.8), Friction(0.0)).profile
+    with pytest.raises(ValueError, match=r"play_deg = -1.0 is out of range: must be in \[0, 360\]"):
+        PinGroove(profile, 0.03, 0.0, 2e-3, ContactLaw("hunt-crossley", K=1e9, e=0.8), play_deg=-1.0)
 
 
 def test_bad_groove_input_is_named():

@@ -116,8 +116,9 @@ def test_a_plastic_contact_peaks_at_the_onset_jump_and_costs_no_extra_steps():
     # is the law's jump at onset, D times the approach speed, located at the onset exactly.
     r = scenes.paper2016(2, "reduced-linear", nx=4, ny=2).simulate(3.0, 0.01).hinge(0)
     first = r.impacts[0]
-    assert first.t_onset_s == pytest.approx(2.469, abs=2e-3)
-    assert first.peak_force_N == pytest.approx(1e6 * first.v_approach_m_s, rel=1e-9)
+    assert first.t_onset_s == pytest.approx(2.472, abs=2e-3)  # the riding pin's 2.4716 s (pin-groove.md)
+    # rel 1e-8: the Hertz term K delta^1.5 at the located onset (delta ~ 3e-10 m) adds ~2e-4 N
+    assert first.peak_force_N == pytest.approx(1e6 * first.v_approach_m_s, rel=1e-8)
     assert first.t_peak_s == first.t_onset_s
     assert r.metadata["contact_steps"] == 0
     assert r.summary()["peak_lock_force_N"] == first.peak_force_N

@@ -47,13 +47,15 @@ def test_impacts_decay_to_a_steady_state():
     # state (from 19.12 s in the paper). With the scene's structural damping (7 % at the first
     # mode, a choice: Paper2016Parameters.damping) over 30 s on a 4 x 2 mesh:
     # - the impacts' envelope decays: the largest peak of each 5 s window after the first lock is
-    #   below the previous window's (measured 29.8, 6.1, 0.87, 0.28, 0.18, 0.14 kN);
-    # - a steady state is reached and held (Result.summary; measured 17.3 s);
+    #   below the previous window's, or the window has none (measured, the default groove lock:
+    #   29.7, 6.0, 1.1, 0.23, 0.11 kN, then none; the stop-and-latch walls: 29.8, 6.2, 1.1, 0.28,
+    #   0.18, 0.14 kN);
+    # - a steady state is reached and held (Result.summary; measured 17.4 s, walls 17.3 s);
     # - energy balance: nothing adds energy (dE/dt <= 0 up to the scheme's O(dt^2) error at the
-    #   impacts: rises below 1e-3 of the spring's work, measured 9e-5), and at rest all of the
+    #   impacts: rises below 1e-3 of the spring's work, measured 1.9e-4), and at rest all of the
     #   spring's work k theta0^2 / 2 (tau = k (theta0 - theta), theta0 = 90 deg) has been
-    #   dissipated: E_end = -k theta0^2 / 2 within 1e-3 (measured 2e-5: the pin rests 0.4 deg
-    #   short of 180 deg, within its play);
+    #   dissipated: E_end = -k theta0^2 / 2 within 1e-3 (measured 4e-6: the pin rests within its
+    #   play short of 180 deg);
     # - momentum drift below 1e-8 (issue 4; measured 2e-15).
     paper = scenes.paper2016(2, "nonlinear", nx=4, ny=2)
     r = paper.simulate(30.0, 0.01).hinge(0)
@@ -63,8 +65,8 @@ def test_impacts_decay_to_a_steady_state():
     starts = np.array([a for a, _ in dfx.metrics.contact_intervals(r.t, r.lock_force)])
     assert s["impacts"] >= 10
     edges = np.arange(t_lock, 30.0, 5.0)
-    envelope = [max(p for p, a in zip(peaks, starts) if lo <= a < lo + 5.0) for lo in edges]
-    assert all(b < a for a, b in zip(envelope, envelope[1:])), envelope
+    envelope = [max((p for p, a in zip(peaks, starts) if lo <= a < lo + 5.0), default=0.0) for lo in edges]
+    assert envelope[0] > 0 and all(b < a or b == 0.0 for a, b in zip(envelope, envelope[1:])), envelope
     assert s["settling_time_s"] is not None and s["settling_time_s"] < 29.0
     spring_work = 0.5 * paper.parameters.k_theta * (np.pi / 2) ** 2
     E = r.kinetic_energy + r.potential_energy
@@ -104,30 +106,38 @@ def test_no_impact_is_missed_with_a_very_stiff_lock():
         assert r.deployment_angle.max() < 180.0 + limit_deg
 
 
-def test_impact_restitution_matches_the_closed_form_at_the_default_step():
+@pytest.mark.parametrize("lock_geometry", ["groove", "stop-latch"])
+def test_impact_restitution_matches_the_closed_form_at_the_default_step(lock_geometry):
     # Rigid panel on the free-floating body, Hunt-Crossley law tuned for e = 0.9 (x = 3(1 - e)/2),
     # a wide groove (5 mm) so the pin rebounds, the default dt = 0.01 s: the engine resolves the
     # 17 ms contact by itself. The first impact keeps the speed ratio e_eff from the exact
     # relation x - ln(1 + x) = -e x - ln(1 - e x) (Carvalho & Martins 2019; docs/research/
     # engine-references.md Sec. 4), whatever the masses: 1 % tolerance on the impact record's
-    # rebound over approach speed. The mechanical energy never rises across the impact, and
-    # friction (mu = 0.25) never adds energy.
+    # rebound over approach speed. The mechanical energy never rises across the impact. Friction
+    # (mu = 0.25): on the groove it acts along the stop flank's tangent, across the pin's path, so
+    # the rebound keeps its restitution (issue 24; within 0.3 %, measured 0.07 %: the pin, seated
+    # by its latch spring, also rubs the notch floor, 8 mN m); the stop-and-latch walls put it along the path,
+    # where it only removes energy (extra impact damping).
     x = 1.5 * (1 - 0.9)
     e_eff = scipy.optimize.brentq(lambda e: x - np.log1p(x) + e * x + np.log1p(-e * x), 0.5, 1.0)
 
     def first_impact(mu):
         law = ContactLaw("hunt-crossley", K=3.162e10, n=1.5, e=0.9)
-        r = scenes.paper2016(2, "rigid", nx=2, ny=1, contact=law, friction=Friction(mu),
-                             clearance=5e-3).simulate(2.6, 0.01).hinge(0)
+        r = scenes.paper2016(2, "rigid", nx=2, ny=1, contact=law, friction=Friction(mu), clearance=5e-3,
+                             lock_geometry=lock_geometry).simulate(2.6, 0.01).hinge(0)
         impact = r.impacts[0]
-        assert impact.wall == "stop" and impact.t_separation_s is not None
+        assert impact.wall == ("facet 0" if lock_geometry == "groove" else "stop")
+        assert impact.t_separation_s is not None
         E = r.kinetic_energy + r.potential_energy  # spring + kinetic; the contact's is 0 once open
         before, after = np.searchsorted(r.t, [impact.t_onset_s, impact.t_separation_s], side="right") - [1, 0]
         assert r.lock_force[after] == 0.0 and E[after] <= E[before]
         return impact.restitution
 
     assert first_impact(0.0) == pytest.approx(e_eff, rel=0.01)
-    assert first_impact(0.25) <= first_impact(0.0)
+    if lock_geometry == "groove":
+        assert first_impact(0.25) == pytest.approx(first_impact(0.0), rel=3e-3)
+    else:
+        assert first_impact(0.25) < 0.9 * first_impact(0.0)
 
 
 def test_without_a_lock_the_panel_swings_through():

@@ -42,7 +42,9 @@ def Ry(angle):
 
 @pytest.fixture(scope="module")
 def paper():
-    return scenes.paper2016(2, "linear", nx=4, ny=2)
+    # The stop-and-latch lock: its [hinges.lock] table is what versions 1-3 wrote (the default
+    # groove's [hinges.groove], version 4, is checked in tests/test_groove_lock.py).
+    return scenes.paper2016(2, "linear", nx=4, ny=2, lock_geometry="stop-latch")
 
 
 @pytest.fixture(scope="module")
@@ -64,7 +66,7 @@ def test_paper_scene_round_trip_gives_identical_results(paper, paper_run, tmp_pa
 @pytest.mark.parametrize("suffix", SUFFIXES)
 def test_lock_law_and_friction_round_trip_through_an_impact(tmp_path, suffix):
     # A rigid panel reaches the lock at ~2.4 s: the contact law and friction act on the result.
-    paper = scenes.paper2016(1, "rigid", nx=2, ny=1, friction=Friction(0.3, 2e-4),
+    paper = scenes.paper2016(1, "rigid", nx=2, ny=1, friction=Friction(0.3, 2e-4), lock_geometry="stop-latch",
                              contact=ContactLaw("hunt-crossley", K=3e10, n=1.5, e=0.7))
     reference = paper.model.simulate(3.0, 0.01)
     assert reference.lock_force.max() > 0

@@ -94,7 +94,7 @@ def test_a_scene_file_sample_equals_the_scene_run_alone(tmp_path):
     the same values by keyword and run alone; bit for bit."""
     path = dfx.save_scene(dfx.scenes.paper2016(**RIGID), tmp_path / "paper.toml")
     st = study.Study(path, vary={"hinges.0.tau0_N_m": [6.9, 7.5],
-                                 "hinges.0.lock.friction.mu": [0.2]},
+                                 "hinges.0.groove.friction.mu": [0.2]},
                      sampler="grid", outputs=["first_lock_time_s", "max(lock_force)"],
                      t_end=T_END, dt=DT, scheme=GeneralizedAlpha(0.8))
     ds = st.run(tmp_path / "s.zarr", workers=1, processes=False).load()

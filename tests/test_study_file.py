@@ -94,9 +94,9 @@ def test_a_scene_file_base_checks_its_paths(tmp_path):
     with pytest.raises(ValueError, match=r"vary key = 'hinges.0.tau0': hinges.0 has no key 'tau0'; "
                                          r"keys: parent, point_m, axis, R_PC0, tau0_N_m"):
         study.load_study(tmp_path / "s.json")
-    d["vary"] = {"hinges.0.lock": {"distribution": "uniform", "low": 6.8, "high": 7.6}}
+    d["vary"] = {"hinges.0.groove": {"distribution": "uniform", "low": 6.8, "high": 7.6}}
     (tmp_path / "s.json").write_text(json.dumps(d))
-    with pytest.raises(ValueError, match=r"'hinges.0.lock' is a table; address one number inside"):
+    with pytest.raises(ValueError, match=r"'hinges.0.groove' is a table; address one number inside"):
         study.load_study(tmp_path / "s.json")
 
 

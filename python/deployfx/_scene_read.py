@@ -244,7 +244,7 @@ def _read_groove(scene: Scene, g: Any, where: str, k: int) -> None:
                            _number(g["pin_angle_rad"], f"{where}.pin_angle_rad"),
                            _number(g["pin_radius_m"], f"{where}.pin_radius_m"),
                            _read_law(g["law"], f"{where}.law"), _read_friction(g["friction"], f"{where}.friction"),
-                           latch)
+                           latch, play_deg=_number(g["play_deg"], f"{where}.play_deg") if "play_deg" in g else None)
         scene.set_groove(groove, hinge=k)
 
 

@@ -27,7 +27,7 @@ _LOCK_FILE_KEYS = ("theta_lock_rad", "pin_radius_m", "clearance_m", "law", "fric
 # A pin-groove lock (version 4): its keys, optional keys, its profile elements' keys by kind, and
 # its latch spring's keys.
 _GROOVE_FILE_KEYS = ("profile", "pin_distance_m", "pin_angle_rad", "pin_radius_m", "law", "friction")
-_GROOVE_OPTIONAL = ("latch",)
+_GROOVE_OPTIONAL = ("latch", "play_deg")
 _GROOVE_ELEMENT_KEYS = {"line": ("start_m", "end_m"), "arc": ("start_m", "end_m", "radius_m"),
                         "arc_about": ("start_m", "end_m", "centre_m", "ccw")}
 _LATCH_FILE_KEYS = ("stop_m", "travel_m", "preload_N", "stiffness_N_per_m", "toward_axis")

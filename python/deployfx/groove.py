@@ -45,6 +45,16 @@ def _nonneg(name: str, value, unit: str) -> float:
     return v
 
 
+def _play(name: str, value) -> Optional[float]:
+    """A lock's free play (deg of hinge travel, >= 0), or None."""
+    if value is None:
+        return None
+    v = as_float(name, value)
+    if not (np.isfinite(v) and 0.0 <= v <= 360.0):
+        raise ValueError(f"{name} = {v} is out of range: must be in [0, 360] (deg of hinge travel)")
+    return v
+
+
 def _finite(name: str, value, unit: str) -> float:
     v = as_float(name, value)
     if not np.isfinite(v):
@@ -206,10 +216,14 @@ class PinGroove:
     law, friction : the normal law (:class:`deployfx.contact.ContactLaw`) and Coulomb friction
         along the facet's tangent (:class:`deployfx.contact.Friction`, regularised at v_reg).
     latch : an optional :class:`LatchSpring`.
+    play_deg : the pin's free play once held, deg of hinge travel (>= 0), if known: the settling
+        metric's angle band (``Result.summary``); None (default) for a general profile, whose
+        play the geometry does not name (the metric then uses its 0.1 deg band).
     """
 
     def __init__(self, profile: GrooveProfile, pin_distance: float, pin_angle: float, pin_radius: float,
-                 law: ContactLaw, friction: Friction = Friction(0.0), latch: Optional[LatchSpring] = None):
+                 law: ContactLaw, friction: Friction = Friction(0.0), latch: Optional[LatchSpring] = None, *,
+                 play_deg: Optional[float] = None):
         if not isinstance(profile, GrooveProfile):
             raise TypeError(f"profile must be a GrooveProfile, got {type(profile).__name__}")
         if not isinstance(law, ContactLaw):
@@ -221,23 +235,27 @@ class PinGroove:
         self.profile, self.law, self.friction, self.latch = profile, law, friction, latch
         self.pin_distance, self.pin_angle = as_float("pin_distance", pin_distance), as_float("pin_angle", pin_angle)
         self.pin_radius = as_float("pin_radius", pin_radius)
+        self._play_deg = _play("play_deg", play_deg)
         self._impl = _core.PinGrooveSpec(
             profile=profile._impl, pin_distance=as_float("pin_distance", pin_distance),
             pin_angle=as_float("pin_angle", pin_angle), pin_radius=as_float("pin_radius", pin_radius),
             law=law._impl, friction=friction._impl, latch=None if latch is None else latch._build())
 
     @classmethod
-    def _wrap(cls, impl, law: ContactLaw, friction: Friction, latch: Optional[LatchSpring]) -> "PinGroove":
+    def _wrap(cls, impl, law: ContactLaw, friction: Friction, latch: Optional[LatchSpring],
+              play_deg: Optional[float]) -> "PinGroove":
         g = cls.__new__(cls)
         g.profile, g.law, g.friction, g.latch, g._impl = GrooveProfile._wrap(impl.profile), law, friction, latch, impl
         g.pin_distance, g.pin_angle, g.pin_radius = impl.pin_distance, impl.pin_angle, impl.pin_radius
+        g._play_deg = _play("play_deg", play_deg)
         return g
 
     @property
-    def play_deg(self) -> None:
-        """The pin's free play once held, deg of hinge travel: not defined for a general profile
-        (None; the settling metric then uses its 0.1 deg band)."""
-        return None
+    def play_deg(self) -> Optional[float]:
+        """The pin's free play once held, deg of hinge travel: the constructor's ``play_deg`` (the
+        paper groove's and the stop-and-latch profile's are their clearance over the pin's
+        distance from the axis); None where the profile does not name it."""
+        return self._play_deg
 
     @classmethod
     def stop_latch(cls, lock, rho: float, pin_angle: float = 0.0) -> "PinGroove":
@@ -248,7 +266,7 @@ class PinGroove:
             raise TypeError(f"lock must be a deployfx.specs.Lock, got {type(lock).__name__}")
         impl = _core.stop_latch_groove(cls._hinge_lock(lock), _nonneg("rho", rho, "m"),
                                        _finite("pin_angle", pin_angle, "rad"))
-        return cls._wrap(impl, lock.law, lock.friction, None)
+        return cls._wrap(impl, lock.law, lock.friction, None, lock.play_deg)
 
     @staticmethod
     def _hinge_lock(lock):
@@ -268,7 +286,7 @@ class PinGroove:
         impl = _core.paper_groove(p, law._impl, friction._impl)
         L = impl.latch
         latch = LatchSpring(L.stop, L.travel, L.preload, L.stiffness, L.toward_axis)
-        return cls._wrap(impl, law, friction, latch)
+        return cls._wrap(impl, law, friction, latch, float(np.degrees(p.clearance / p.seat)))
 
     # -- runs: the history is a run's state, kept by the caller
 

@@ -69,6 +69,7 @@ Optional parts are simply left out (TOML has no null)::
     pin_distance_m, pin_angle_rad, pin_radius_m       # deployfx.groove.PinGroove
     law = {...}, friction = {...}                     # as the lock's
     latch = {stop_m, travel_m, preload_N, stiffness_N_per_m, toward_axis}   # optional
+    play_deg                                          # optional: the free play once held
     [[hinges.groove.profile]]            # the profile's elements in order, in P's hinge plane:
     kind = "line", start_m = [x, y], end_m = [x, y]                 # deployfx.groove.Line
     kind = "arc", start_m, end_m, radius_m                          #   Arc
@@ -186,6 +187,8 @@ def _write_groove(g) -> dict:
         L = g.latch
         out["latch"] = {"stop_m": float(L.stop), "travel_m": float(L.travel), "preload_N": float(L.preload),
                         "stiffness_N_per_m": float(L.stiffness), "toward_axis": bool(L.toward_axis)}
+    if g.play_deg is not None:
+        out["play_deg"] = float(g.play_deg)
     return out
 
 

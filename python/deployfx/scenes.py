@@ -25,7 +25,7 @@ from .model import Model
 from .plate import Plate, ShellModel
 from .results import Result
 from .scene import Scene
-from .specs import Fidelity
+from .specs import Fidelity, Lock
 from .strengths import Strengths
 
 N_MM_PER_DEG = 1e-3 * 180.0 / np.pi  # 1 N mm/deg in N m/rad
@@ -70,19 +70,21 @@ class Paper2016Parameters:
     clearance: float = 0.2e-3                   #: m, play once latched (choice)
     contact: ContactLaw = ContactLaw("paper", K=1e6 / (1e-3) ** 1.5, n=1.5, D=1e6)  #: 1e6 N/mm^1.5, 1e3 N s/mm
     friction: Friction = Friction(0.25)         #: mu = 0.25
-    #: The lock's geometry: "stop-latch", walls in the hinge angle (a stop at 180 deg, a latch one
-    #: clearance before it; friction acts along the pin's path), or "groove", the pin on a latch
-    #: spring riding a track into a notch (deployfx.groove.PinGroove.paper, docs/research/
-    #: pin-groove.md; friction along the groove's tangent, Eq. 45).
-    lock_geometry: str = "stop-latch"
+    #: The lock's geometry: "groove" (default), the paper's "cylindrical pin slides along the
+    #: locking groove": a pin on a latch spring riding a track into a notch, friction along the
+    #: groove's tangent (Eq. 45; deployfx.groove.PinGroove.paper, docs/research/pin-groove.md); or
+    #: "stop-latch", walls in the hinge angle (a stop at 180 deg, a latch one clearance before it)
+    #: whose friction acts along the pin's path, i.e. as extra impact damping (the default before
+    #: session 17).
+    lock_geometry: str = "groove"
     base_free: bool = True
     #: Structural damping of the appendage, Rayleigh (alpha_M 1/s, beta_K s) (choice): the paper
     #: gives none, yet its vibration decays and it reports a steady state from 19.12 s, which
     #: needs dissipation besides the lock's (undamped, the panel rings and the pin taps in its
     #: play for ever; README). alpha_M = 0.7 1/s is 7 % of critical at the first clamped mode of
     #: lay-up 2 (0.80 Hz; lay-up 1: 0.85 Hz, 6.5 %), 4 % at the second, less above
-    #: (zeta = alpha_M / (2 omega)); the 6 x 4 scene then settles at 17.9 s (5 %: 28.4 s, 10 %:
-    #: 13.2 s). Mass-proportional, because stiffness-proportional damping over-damps the stiff
+    #: (zeta = alpha_M / (2 omega)); the 6 x 4 scene then settles at 16.6 s (5 %: 21.8 s, 10 %:
+    #: 13.3 s; on the stop-and-latch walls 17.9 s). Mass-proportional, because stiffness-proportional damping over-damps the stiff
     #: root modes (zeta ~ 100) and generalized-alpha then overshoots in energy at large steps.
     #: (0, 0): the paper's undamped equations.
     damping: tuple = (0.7, 0.0)
@@ -129,10 +131,15 @@ class Paper2016Scene:
                             stowed_angle_deg=90.0)
             scene.set_appendage(shell, fixed, fidelity=fidelity, damping=p.damping, modes=p.modes,
                                 derivative_modes=p.derivative_modes, strengths=p.strengths)
-            if p.lock and p.lock_geometry == "groove":
-                scene.set_groove(PinGroove.paper(p.contact, p.friction, seat=p.pin_radius, clearance=p.clearance))
-            elif p.lock:
-                scene.set_lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, friction=p.friction)
+            if p.lock:
+                # Either geometry: the pin seats at 180 deg, pin_radius from the axis, with
+                # clearance of play (Lock checks both, naming them, for the groove too).
+                lock = Lock(np.pi / 2, p.pin_radius, p.clearance, p.contact, p.friction)
+                if p.lock_geometry == "groove":
+                    scene.set_groove(PinGroove.paper(p.contact, p.friction, seat=lock.pin_radius,
+                                                     clearance=lock.clearance))
+                else:
+                    scene.set_lock(lock.theta_lock, lock.pin_radius, lock.clearance, p.contact, friction=p.friction)
         self.scene = scene  #: the :class:`Scene` before compile (e.g. for deployfx.save_scene)
         self.model = scene.compile(description={"scene": "paper2016", "layup": p.layup, "mesh": f"{p.nx}x{p.ny}",
                                                 "model": str(fidelity), "wings": p.wings})
