@@ -289,7 +289,8 @@ def main() -> None:
                   f"{1e3 * np.abs(r['node_E']).max():9.3f} {ratio}{diff}", flush=True)
         i = e["info"]
         print(f"      deployfx: engine {d['engine']:.4f} s (wall) of it, {d['steps']} steps, {d['newton']} "
-              f"Newton iterations; Exudyn: {i['steps']} steps, {i['newton']} Newton iterations, "
+              f"Newton iterations ({1e6 * d['cpu'] / d['newton']:.1f} us CPU each); Exudyn: {i['steps']} steps, "
+              f"{i['newton']} Newton iterations ({1e6 * e['cpu'] / max(i['newton'], 1):.1f} us each), "
               f"{i['jacobians']} Jacobians, {i['discontinuous']} discontinuous iterations"
               f"{'' if e['ok'] else ', SOLVER FAILED'}", flush=True)
 
