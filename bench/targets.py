@@ -1,12 +1,15 @@
-"""Issue 6's speed targets against the least a step of this engine can cost (You et al. 2016,
+"""Issue 27's speed targets against the least a step of this engine can cost (You et al. 2016,
 lay-up 2, the paper's 30 s scene at dt = 0.01 s, generalized-alpha rho_inf = 0.8).
 
-The targets: the full nonlinear 15 x 10 model in 1 s; the reduced nonlinear model with 10 modes in
-20 ms. For each model, one timed run (the engine's wall time) and, through the bindings at the
-run's state at ``--t-eval``, the median cost of one residual; with the cost of one solve of the
-Newton matrix (the full models: scipy ``splu`` of the elastic block S_E = M + beta h^2 K, issue
-6's floor, as in bench/newton_profile.py; the others: a dense LU solve of their matrix), the
-bounds below which no run of this scheme can go:
+The targets (CPU time of one core): the full nonlinear 15 x 10 model in 4 s; the reduced
+nonlinear model with 10 modes in 0.25 s; the quadratic-manifold model (``reduced-manifold``, not
+built yet) in 60 ms. For each model, one timed run (the engine's ``_core.simulate``, no Python
+post-processing, ``time.process_time``) and, through the bindings at the run's state at
+``--t-eval``, the median CPU time of one residual and of the engine's own bordered solve of its
+Newton matrix at that state (``_core.bordered_solve_cost``: the block LDL^T of the elastic block's
+symmetric part with the Schur complement on the border for the full meshes, a dense LU for the
+reduced models' modal block; the solve unrefined, as a Newton step with a kept matrix takes it).
+With them, the bounds below which no run of this scheme can go:
 
 - ``floor 1 it``: every integration step (``substeps``: output steps plus the event search's)
   converged by ONE Newton iteration with a kept matrix (one residual, one solve), and nothing
@@ -17,6 +20,11 @@ bounds below which no run of this scheme can go:
   the lock's first impact;
 - ``target / floor 1 it``: below 1, the target is out of reach of any Newton-based implicit step
   of this model at this step size, however fast its bookkeeping.
+
+``fact ms`` is one numeric factorization of that matrix (its pattern analysed once) and
+``exact ms`` one solve refined against the elastic block's skew part (a fresh matrix's step). Until
+issue 27 the floor timed scipy's ``splu`` solve of M + beta h^2 K (126-140 us on 15 x 10), which the
+engine never uses.
 
 The rigid model's run (no elastic coordinates at all) is printed as what the engine's system
 (base, hinge, lock, momentum rows, events, outputs) costs without an appendage; its residual's
@@ -29,31 +37,39 @@ No assertions: speed is measured here, not tested.
 from __future__ import annotations
 
 import argparse
+import time
 
 import numpy as np
-import scipy.linalg
+import scipy.sparse as sp
 
 import deployfx as dfx
-from deployfx.integrators import GeneralizedAlpha
-from newton_profile import RHO, profile, solve_floor, timed
+from deployfx import _core
+from newton_profile import RHO, profile
 
-TARGETS = {"nonlinear": 1.0, "reduced-nonlinear": 0.020}  # s, for the 30 s scene (issue 6)
+#: s of CPU time, for the 30 s scene (issue 27); None: the fidelity is not built yet.
+TARGETS = {"nonlinear": 4.0, "reduced-nonlinear": 0.25, "reduced-manifold": 0.060}
 
 
-def dense_solve(model: str, nx: int, ny: int, modes: int, dt: float, columns: int = 2000) -> float:
-    """Seconds of one LU solve with the model's (dense) Newton matrix at rest: the median of a
-    solve with ``columns`` right-hand sides at once, per column (one column's call would time
-    scipy's argument checks, not the solve)."""
-    scene = dfx.scenes.paper2016(layup=2, model=model, nx=nx, ny=ny, modes=modes)
-    sys = scene.model.core
-    p = GeneralizedAlpha(RHO)._params()
-    c = (1 - p.alpha_f) / (1 - p.alpha_m)
-    n = sys.num_velocities
-    S = sys.newton_matrix(sys.initial_positions(), np.zeros(n), np.zeros(n), 0.0, 1.0,
-                          p.gamma * dt * c, p.beta * dt * dt * c)
-    lu = scipy.linalg.lu_factor(S)
-    B = np.random.default_rng(0).standard_normal((n, columns))
-    return timed(lambda: scipy.linalg.lu_solve(lu, B)) / columns
+def engine_solve(S: np.ndarray, border: int) -> dict:
+    """The engine's bordered solver on the Newton matrix S (dense, from the binding) with the
+    first ``border`` coordinates (base, hinge) as its dense border: method and CPU seconds of one
+    factorization, one solve and one refined solve (``_core.bordered_solve_cost``). The elastic
+    block gets the engine's pattern: whole 6 x 6 node blocks, structurally symmetric, zeros
+    stored (dropping the dense copy's zeros would leave a pattern the block LDL^T cannot group)."""
+    A, B = S[:border, :border], S[:border, border:]
+    C, Ed = S[border:, :border], S[border:, border:]
+    n = Ed.shape[0]
+    if n % 6 == 0 and n > 36:  # a mesh: its node blocks
+        nodes = n // 6
+        mask = np.abs(Ed).reshape(nodes, 6, nodes, 6).sum(axis=(1, 3)) > 0
+        mask = np.kron(mask | mask.T, np.ones((6, 6), dtype=bool))
+        rows, cols = np.nonzero(mask)
+        E = sp.csc_matrix((Ed[rows, cols], (rows, cols)), shape=(n, n))
+    else:  # a reduced model's modal block: dense
+        E = sp.csc_matrix(np.where(Ed == 0, 0.0, Ed))
+    r = np.random.default_rng(0).standard_normal(S.shape[0])
+    return _core.bordered_solve_cost(np.ascontiguousarray(A), np.ascontiguousarray(B),
+                                     np.ascontiguousarray(C), E, r, 0.3)
 
 
 def main() -> None:
@@ -64,36 +80,36 @@ def main() -> None:
                     help="time of the state the evaluations use (s): after the lock by default")
     ap.add_argument("--mesh", default="15x10", help="NXxNY")
     ap.add_argument("--modes", type=int, default=10, help="the reduced model's clamped modes")
-    ap.add_argument("--models", nargs="+", default=["rigid", "reduced-nonlinear", "nonlinear"],
-                    choices=["rigid", "reduced-linear", "reduced-nonlinear", "linear", "nonlinear"])
+    models = ["rigid", "reduced-linear", "reduced-nonlinear", "reduced-manifold", "linear", "nonlinear"]
+    ap.add_argument("--models", nargs="+", default=["rigid", "reduced-nonlinear", "reduced-manifold", "nonlinear"],
+                    choices=models)
     args = ap.parse_args()
     nx, ny = (int(x) for x in args.mesh.lower().split("x"))
-    beta = GeneralizedAlpha(RHO)._params().beta
     print(f"paper2016 lay-up 2, {args.mesh}, t_end = {args.t_end:g} s, dt = {args.dt:g} s, "
-          f"generalized-alpha rho_inf = {RHO}; evaluations at t = {args.t_eval:g} s; "
-          f"core built for {dfx._core.simd}")
-    print(f"{'model':18s} {'target s':>8s} {'wall s':>8s} {'substeps':>8s} {'it/step':>7s} "
-          f"{'res ms':>8s} {'solve ms':>8s} {'floor 1 it s':>12s} {'floor 2 it s':>12s} "
-          f"{'wall/floor1':>11s} {'target/floor1':>13s}")
-    sparse_solve = None
+          f"generalized-alpha rho_inf = {RHO}; evaluations at t = {args.t_eval:g} s; CPU time of one "
+          f"core (time.process_time); core built for {dfx._core.simd}")
+    print(f"{'model':18s} {'target s':>8s} {'cpu s':>8s} {'substeps':>8s} {'it/step':>7s} "
+          f"{'res ms':>8s} {'solve ms':>8s} {'exact ms':>8s} {'fact ms':>8s} {'floor 1 it s':>12s} "
+          f"{'floor 2 it s':>12s} {'cpu/floor1':>10s} {'target/floor1':>13s} solver")
     for model in args.models:
-        m = profile(model, nx, ny, args.modes, args.t_end, args.dt, args.t_eval, True)
-        if model in ("linear", "nonlinear"):
-            if sparse_solve is None:
-                sparse_solve = solve_floor(nx, ny, args.dt, beta)
-            solve = sparse_solve
-        else:
-            solve = dense_solve(model, nx, ny, args.modes, args.dt)
-        substeps = m["wall"] / m["step"]
         target = TARGETS.get(model)
+        if model == "reduced-manifold":
+            print(f"{model:18s} {target:8g} {'not built (issue 27)':>30s}", flush=True)
+            continue
+        m = profile(model, nx, ny, args.modes, args.t_end, args.dt, args.t_eval, True,
+                    clock=time.process_time)
+        substeps = m["wall"] / m["step"]
         line = (f"{model:18s} {(f'{target:g}' if target else '-'):>8s} {m['wall']:8.3f} "
-                f"{substeps:8.0f} {m['its']:7.2f} {1e3 * m['res']:8.4f} {1e3 * solve:8.4f} ")
+                f"{substeps:8.0f} {m['its']:7.2f} {1e3 * m['res']:8.4f} ")
         if model == "rigid":
-            line += f"{'-':>12s} {'-':>12s} {'-':>11s} {'-':>13s}"
+            line += (f"{'-':>8s} {'-':>8s} {'-':>8s} {'-':>12s} {'-':>12s} {'-':>10s} {'-':>13s} -")
         else:
-            floor1 = substeps * (m["res"] + solve)
+            cost = engine_solve(m["state"]["S"], m["state"]["border"])
+            floor1 = substeps * (m["res"] + cost["solve"])
             ratio = f"{target / floor1:13.2f}" if target else f"{'-':>13s}"
-            line += f"{floor1:12.3f} {2 * floor1:12.3f} {m['wall'] / floor1:11.1f} {ratio}"
+            line += (f"{1e3 * cost['solve']:8.4f} {1e3 * cost['solve_exact']:8.4f} "
+                     f"{1e3 * cost['factorize']:8.4f} {floor1:12.3f} {2 * floor1:12.3f} "
+                     f"{m['wall'] / floor1:10.1f} {ratio} {cost['method']}")
         print(line, flush=True)
 
 

@@ -140,3 +140,18 @@ def test_bad_shapes_raise_value_error():
     A, B, C, E, r, _ = bordered(7)
     with pytest.raises(ValueError, match="must be square"):
         _core.bordered_solve(A, B, C, E, r[:-1])
+
+
+def test_solve_cost_reports_the_solver_and_its_times():
+    # bench/targets.py's floor (issue 27): the engine's own bordered solver timed in C++ on one
+    # thread's CPU clock. Only what it reports is checked, never how fast (no timing assertions):
+    # the method the solver chose, and three positive finite times.
+    A, B, C, E, r, _ = bordered(7)
+    cost = _core.bordered_solve_cost(A, B, C, E, r, 0.01)
+    assert cost["method"] == "block-ldlt"
+    for key in ("factorize", "solve", "solve_exact"):
+        assert np.isfinite(cost[key]) and cost[key] > 0
+    with pytest.raises(ValueError, match="seconds"):
+        _core.bordered_solve_cost(A, B, C, E, r, 0.0)
+    with pytest.raises(ValueError, match="square"):
+        _core.bordered_solve_cost(A, B, C, E, r[:-1], 0.01)

@@ -579,3 +579,22 @@ def test_deformed_shape_validates_its_input(args, match):
     xy, quads = plate_mesh(15, 10, 2.0, 1.3)
     with pytest.raises(ValueError, match=match):
         plot.deformed_shape(*args(xy, quads, np.zeros(len(xy))))
+
+
+def test_base_attitude_is_scipys_rotation_vector():
+    # deployfx._run.base_attitude_deg (vectorised) against scipy's Rotation.as_rotvec, an
+    # independent implementation of the same map, to round-off (1e-12 deg): small angles (its
+    # Taylor branch below 1e-3 rad), large ones up to pi, quaternions with w < 0 (the same
+    # rotation) and not quite unit ones (renormalised).
+    from scipy.spatial.transform import Rotation
+
+    from deployfx._run import base_attitude_deg
+
+    rng = np.random.default_rng(7)
+    for spread in (1e-6, 1e-3, 0.1, 3.0):
+        quat = rng.normal(size=(500, 4)) * np.array([1.0, spread, spread, spread])
+        quat *= (1 + 1e-10 * rng.normal(size=(500, 1))) / np.linalg.norm(quat, axis=1)[:, None]
+        q = np.c_[np.zeros((500, 3)), quat]
+        ref = Rotation.from_quat(quat[:, [1, 2, 3, 0]]).as_rotvec(degrees=True)
+        assert np.abs(base_attitude_deg(q, True) - ref).max() <= 1e-12
+    assert np.array_equal(base_attitude_deg(np.zeros((3, 0)), False), np.zeros((3, 3)))

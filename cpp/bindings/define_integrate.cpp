@@ -3,6 +3,11 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <ctime>
+#include <string>
+#include <vector>
+
 #include "deployfx/integrate/bordered_solver.hpp"
 #include "deployfx/integrate/generalized_alpha.hpp"
 #include "deployfx/integrate/linear_system.hpp"
@@ -38,6 +43,66 @@ void define_integrate(py::module_& m) {
         py::arg("A"), py::arg("B"), py::arg("C"), py::arg("E"), py::arg("r"), py::arg("exact") = true,
         "Newton's bordered solve (integrate/bordered_solver), for the tests: x = S^-1 r and how E "
         "was factorized (BorderedSolver::method).");
+
+  m.def("bordered_solve_cost",
+        [](const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C,
+           const Eigen::SparseMatrix<double>& E, const Eigen::VectorXd& r, double seconds) {
+          const Eigen::Index nb = A.rows(), ne = E.rows();
+          if (A.cols() != nb || B.rows() != nb || B.cols() != ne || C.rows() != ne || C.cols() != nb ||
+              E.cols() != ne || r.size() != nb + ne)
+            throw std::invalid_argument("bordered_solve_cost: S = [A B; C E] must be square with A (nb x nb), "
+                                        "E (ne x ne), and r of size nb + ne");
+          if (!(seconds > 0 && seconds <= 60))
+            throw std::invalid_argument("bordered_solve_cost: seconds must be in (0, 60]");
+          BlockMatrix S{A, B, C, E};
+          S.E.makeCompressed();
+          std::string method;
+          double factorize = 0, solve = 0, solve_exact = 0;
+          {
+            py::gil_scoped_release release;
+            BorderedSolver solver;
+            if (!solver.factorize(S)) throw std::invalid_argument("bordered_solve_cost: S is singular");
+            // Each the median CPU time of this thread (one core) over batches of about 1/40 of
+            // `seconds`: the pattern's analysis (the first factorization, above) excluded.
+            auto median_cpu = [seconds](auto&& f) {
+              auto now = [] {
+                timespec ts;
+                clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+                return ts.tv_sec + 1e-9 * ts.tv_nsec;
+              };
+              double t0 = now();
+              f();
+              const double once = std::max(now() - t0, 1e-7);
+              const long batch = std::max(1L, static_cast<long>(seconds / 40 / once));
+              std::vector<double> times;
+              const double start = now();
+              while (times.size() < 5 || now() - start < seconds) {
+                t0 = now();
+                for (long i = 0; i < batch; ++i) f();
+                times.push_back((now() - t0) / batch);
+              }
+              std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
+              return times[times.size() / 2];
+            };
+            Eigen::VectorXd x;
+            factorize = median_cpu([&] { solver.factorize(S); });
+            solve = median_cpu([&] { x = solver.solve(r, false); });
+            solve_exact = median_cpu([&] { x = solver.solve(r, true); });
+            method = solver.method();
+          }
+          py::dict d;
+          d["method"] = method;
+          d["factorize"] = factorize;
+          d["solve"] = solve;
+          d["solve_exact"] = solve_exact;
+          return d;
+        },
+        py::arg("A"), py::arg("B"), py::arg("C"), py::arg("E"), py::arg("r"), py::arg("seconds") = 0.3,
+        "The engine's bordered solver's cost on S = [A B; C E], for bench/targets.py: a dict of "
+        "``method`` (how E was factorized) and the median CPU seconds of one thread for one "
+        "``factorize`` (its pattern analysed once before), one ``solve`` (unrefined: a kept "
+        "matrix's Newton step) and one ``solve_exact`` (refined against E's skew part: a fresh "
+        "matrix's), each timed over about ``seconds``.");
 
   m.def("simulate_linear",
         [](const Eigen::MatrixXd& M, const Eigen::MatrixXd& C, const Eigen::MatrixXd& K,
