@@ -408,7 +408,8 @@ def test_summary_is_computed_from_the_series():
     # the impact records' impulse (a result built from series alone has no records) and the ply
     # failure envelope (a run with stresses=True)
     absent = ("max_tip_deflection_m", "max_tip_deflection_time_s", "tip_deflection_after_spin_up_m",
-              "peak_hinge_force_N", "peak_hinge_moment_Nm", "peak_impact_impulse_N_s", "min_failure_margin", "critical_ply", "critical_element", "critical_time_s")
+              "peak_hinge_force_N", "peak_hinge_moment_Nm", "peak_impact_impulse_N_s", "min_failure_margin",
+              "critical_ply", "critical_element", "critical_time_s")
     assert tuple(s) == tuple(k for k in results.SUMMARY_KEYS if k not in absent)
     assert s["first_lock_time_s"] == pytest.approx(2.47, abs=1e-12)
     assert s["impacts"] == 4 and isinstance(s["impacts"], int)
@@ -441,7 +442,8 @@ def test_summary_of_other_scenes_leaves_out_what_they_do_not_measure():
                   metadata={"hinges": [{"fidelity": "linear", "spin_up": {"omega_s_rad_per_s": 1.0, "t_s_s": 1.6}}]})
     expected = 0.5e-3 - 1e-3 * np.sin(1.6 * np.pi)
     assert spun.summary()["tip_deflection_after_spin_up_m"] == pytest.approx(expected, abs=2e-5)
-    late = Result({"t": t, "tip_deflection": t}, metadata={"hinges": [{"fidelity": "linear", "spin_up": {"t_s_s": 5.0}}]})
+    late = Result({"t": t, "tip_deflection": t},
+                  metadata={"hinges": [{"fidelity": "linear", "spin_up": {"t_s_s": 5.0}}]})
     assert late.summary()["tip_deflection_after_spin_up_m"] is None  # the run ends before t_s
     # Without a lock force no lock metric (the angle crossing 180 deg is metrics.first_lock_time's).
     angle = 180.0 - 90.0 * np.cos(np.pi * t / (2 * 1.2345))

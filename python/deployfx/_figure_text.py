@@ -34,7 +34,8 @@ def _mesh(mesh: Any) -> Any:
 def caption(results: Sequence) -> str:
     """One line of the runs' settings (:meth:`deployfx.Result.settings`): scene, mesh, dt,
     scheme, tolerance, deployfx version and the first run's start time; a setting the runs differ in lists each
-    run's value (``a / b``); lines of at most :data:`WIDTH` characters; '' when no run has settings (results made by hand)."""
+    run's value (``a / b``); lines of at most :data:`WIDTH` characters; '' when no run has
+    settings (results made by hand)."""
     settings = [r.settings() for r in results]
     engine = any(s["dt"] is not None for s in settings)
     fields = [("scene", lambda v: f"scene {_text(v)}"), ("mesh", lambda v: f"mesh {v}")]

@@ -213,7 +213,8 @@ def _run(args: argparse.Namespace) -> int:
             print(f"deployfx: {label} run stopped: {e}", file=sys.stderr)
             results.append(e.result)
         labels.append(label)
-    summaries = {label: dict(r.summary(), settings=dict(r.settings(), command=["deployfx"] + args.argv))
+    command = ["deployfx"] + getattr(args, "argv", [])
+    summaries = {label: dict(r.summary(), settings=dict(r.settings(), command=command))
                  for label, r in zip(labels, results)}
     summary = summaries[labels[0]] if len(labels) == 1 else summaries
     if args.json:
