@@ -328,9 +328,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 _RUN_DESCRIPTION = """Simulate a scene and report what it measures (summary.json with the run's
-settings, the time series, figures). A step that does not resolve the scene (dt longer than a
-quarter of the shortest period it keeps: its spring swing, each panel's highest kept mode;
-deployfx.resolution) gives a warning with that period and a step that resolves it. Lock contacts
+settings, the time series, figures). A step that does not resolve the scene (fewer than 20 steps
+a period of a swing on the hinge springs, or 4 of a panel's highest kept mode; deployfx.resolution)
+gives a warning with that period and a step that resolves it. Lock contacts
 need no step of their own: the engine shortens its steps inside each contact to resolve it,
 whatever dt (docs/engine-design.md, "Contacts resolved at the default step")."""
 
