@@ -157,3 +157,12 @@ def test_spin_up_beam_summary_reports_its_tip_and_no_lock(capsys):
     assert not any(k.startswith(("first_lock", "impacts", "peak_lock", "settling")) for k in s)
     assert None not in [v for value in s.values() if isinstance(value, list) for v in value]
     assert s["settings"]["dt"] == 0.002
+
+
+def test_scene_parameters_with_strengths_are_json():
+    # Strengths keep a core object; the settings hold their fields (Pa), as a scene file does.
+    s = dfx.Strengths(Xt=1.5e9, Xc=1.2e9, Yt=5e7, Yc=2e8, S12=7e7)
+    p = scenes.paper2016(2, "rigid", nx=2, ny=1, strengths=s).model.description["parameters"]
+    assert p["strengths"] == {"Xt": 1.5e9, "Xc": 1.2e9, "Yt": 5e7, "Yc": 2e8, "S12": 7e7, "S13": None,
+                              "S23": None, "F12_star": -0.5}
+    json.dumps(p)

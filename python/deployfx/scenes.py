@@ -110,8 +110,8 @@ def _parameters(p: Paper2016Parameters) -> dict:
             return _write_law(v)
         if isinstance(v, Friction):
             return _write_friction(v)
-        if isinstance(v, Strengths):
-            return dataclasses.asdict(v)
+        if isinstance(v, Strengths):  # its fields, not the core object it keeps
+            return {f.name: getattr(v, f.name) for f in dataclasses.fields(v) if f.init}
         if isinstance(v, (list, tuple)):
             return [value(x) for x in v]
         return v
