@@ -269,6 +269,11 @@ def test_frame_labels_read_the_angles_from_q_without_a_deployment_angle_series()
     r = _chain_result(model)
     np.testing.assert_allclose(animation._angles_deg(model, r.q, r.t), np.degrees(THETAS), rtol=1e-14)
     assert animation._picture(model, r, 1.0)["label"](1) == "deployment angle 17.2, -40.1, 63.0 deg"
+    # The frame's words are the plots' axis labels' (deployfx.plot), with their units.
+    text = animation._frame_text(0.25, animation._picture(model, r, 1.0)["label"](1))
+    assert text == "time   0.250 s   deployment angle 17.2, -40.1, 63.0 deg"
+    (ax,) = dfx.plot.deployment_angle(dfx.Result({"t": [0.0, 1.0], "deployment_angle": [90.0, 180.0]})).axes
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("time (s)", "deployment angle (deg)")
     omega_s, t_s = 2.0, 5.0
     beam = scenes.spin_up_beam(omega_s, t_s=t_s, nx=2).model
     t = np.array([0.0, 1.0, 2.5, 5.0])

@@ -407,8 +407,9 @@ def test_summary_is_computed_from_the_series():
     # force and moment) left out
     # the impact records' impulse (a result built from series alone has no records) and the ply
     # failure envelope (a run with stresses=True)
-    absent = ("max_tip_deflection_m", "peak_hinge_force_N", "peak_hinge_moment_Nm", "peak_impact_impulse_N_s",
-              "min_failure_margin", "critical_ply", "critical_element", "critical_time_s")
+    absent = ("max_tip_deflection_m", "max_tip_deflection_time_s", "tip_deflection_after_spin_up_m",
+              "peak_hinge_force_N", "peak_hinge_moment_Nm", "peak_impact_impulse_N_s", "min_failure_margin",
+              "critical_ply", "critical_element", "critical_time_s")
     assert tuple(s) == tuple(k for k in results.SUMMARY_KEYS if k not in absent)
     assert s["first_lock_time_s"] == pytest.approx(2.47, abs=1e-12)
     assert s["impacts"] == 4 and isinstance(s["impacts"], int)
@@ -432,7 +433,18 @@ def test_summary_of_other_scenes_leaves_out_what_they_do_not_measure():
     assert Result({"t": t, "tip_deflection": 1e-3 * np.sin(t)}).summary() == {}
     tip = Result({"t": t, "tip_deflection": 1e-3 * np.sin(np.pi * t) - 0.5e-3},
                  metadata={"hinges": [{"fidelity": "linear"}]})
-    assert tip.summary() == {"max_tip_deflection_m": pytest.approx(1.5e-3, abs=1e-12)}  # at t = 1.5 s, sampled
+    assert tip.summary() == {"max_tip_deflection_m": pytest.approx(1.5e-3, abs=1e-12),  # at t = 1.5 s, sampled
+                             "max_tip_deflection_time_s": pytest.approx(1.5, abs=1e-12)}
+    # A prescribed spin-up (metadata hinges[k].spin_up) adds the largest |tip| from its end t_s on:
+    # from t_s = 1.6 s, past the -1.5e-3 trough at 1.5 s: |1e-3 sin(1.6 pi) - 0.5e-3| (within one
+    # sample's change, 2e-5).
+    spun = Result({"t": t, "tip_deflection": 1e-3 * np.sin(np.pi * t) - 0.5e-3},
+                  metadata={"hinges": [{"fidelity": "linear", "spin_up": {"omega_s_rad_per_s": 1.0, "t_s_s": 1.6}}]})
+    expected = 0.5e-3 - 1e-3 * np.sin(1.6 * np.pi)
+    assert spun.summary()["tip_deflection_after_spin_up_m"] == pytest.approx(expected, abs=2e-5)
+    late = Result({"t": t, "tip_deflection": t},
+                  metadata={"hinges": [{"fidelity": "linear", "spin_up": {"t_s_s": 5.0}}]})
+    assert late.summary()["tip_deflection_after_spin_up_m"] is None  # the run ends before t_s
     # Without a lock force no lock metric (the angle crossing 180 deg is metrics.first_lock_time's).
     angle = 180.0 - 90.0 * np.cos(np.pi * t / (2 * 1.2345))
     s = Result({"t": t, "deployment_angle": angle}, metadata={"steps": 200}).summary()
@@ -487,8 +499,10 @@ def test_vector_figures_draw_three_components_per_run():
     top, bottom = plot.angular_momentum(pair).axes
     assert len(top.lines) == len(bottom.lines) == 2
     assert top.get_ylabel() == "body angular momentum (N m s)"
-    assert bottom.get_ylabel() == "total angular momentum (N m s)"
-    np.testing.assert_array_equal(bottom.lines[1].get_ydata(), pair[1].total_angular_momentum[:, 1])
+    # the conserved total: its drift relative to the body's peak (no momentum_scale here), 2 N m s
+    assert bottom.get_ylabel() == "total angular momentum drift\n|H - H(0)| / H_ref"
+    H = pair[1].total_angular_momentum[:, 1]
+    np.testing.assert_allclose(bottom.lines[1].get_ydata(), np.abs(H - H[0]) / 2.0, rtol=1e-12, atol=1e-30)
     # Three components that move: three lines per run.
     t = grid(1.0, 0.1)
     tumbling = [Result({"t": t, "body_attitude": np.c_[t, -t, 2 * t]}, metadata={"model": m})
@@ -496,6 +510,61 @@ def test_vector_figures_draw_three_components_per_run():
     (ax,) = plot.body_attitude(tumbling).axes
     assert len(ax.lines) == 6 and legend_texts(ax)[:3] == ["linear, x", "linear, y", "linear, z"]
     np.testing.assert_array_equal(ax.lines[5].get_ydata(), 2 * t)
+
+
+def test_coinciding_overlays_stay_visible():
+    # Two identical runs: the first a wide solid line underneath, the second narrower, dashed,
+    # with markers and drawn over it, so both show where the curves coincide.
+    same = [paper_like_result("linear", dt=0.1), paper_like_result("nonlinear", dt=0.1)]
+    for fig in (plot.deployment_angle(same), plot.body_attitude(same)):
+        first, second = fig.axes[0].lines
+        np.testing.assert_array_equal(first.get_ydata(), second.get_ydata())
+        assert first.get_linewidth() > second.get_linewidth() and first.get_zorder() < second.get_zorder()
+        assert first.get_marker() in ("None", None, "") and second.get_marker() not in ("None", None, "")
+    first, second = plot.deployment_angle(same).axes[0].lines
+    assert (first.get_linestyle(), second.get_linestyle()) == ("-", "--")
+
+
+def test_legends_leave_out_round_off_components():
+    # Attitude about y with x and z at round-off (1e-17 deg): only y is drawn and listed.
+    t = grid(1.0, 0.1)
+    att = np.c_[1e-17 * np.sin(t), t, -1e-17 * t]
+    (ax,) = plot.body_attitude(Result({"t": t, "body_attitude": att}, metadata={"model": "m"})).axes
+    assert legend_texts(ax) == ["m, y"] and len(ax.lines) == 1
+    # Above 1e-9 of the largest component a component is shown.
+    att[:, 0] = 1e-6 * t
+    (ax,) = plot.body_attitude(Result({"t": t, "body_attitude": att}, metadata={"model": "m"})).axes
+    assert legend_texts(ax) == ["m, x", "m, y"]
+
+
+def test_momentum_drift_is_relative_to_the_runs_momentum_scale():
+    t = grid(1.0, 0.1)
+    H = np.zeros((t.size, 3))
+    H[:, 2] = 5.0 + 3e-6 * t  # a drift of 1e-6 of H_ref a second
+    r = Result({"t": t, "body_angular_momentum": np.c_[0 * t, 2.0 * t, 0 * t], "total_angular_momentum": H},
+               metadata={"momentum_scale": {"P_N_s": 1.0, "H_N_m_s": 3.0}})
+    top, bottom = plot.angular_momentum(r).axes
+    np.testing.assert_allclose(bottom.lines[0].get_ydata(), 1e-6 * t, rtol=1e-8, atol=1e-25)  # round-off of 5 + ...
+    assert bottom.get_legend() is None and [line.get_label() for line in top.lines] == ["y"]
+
+
+def test_figures_carry_the_run_settings_as_a_caption():
+    from deployfx import scenes
+
+    r = scenes.paper2016(2, "rigid", nx=2, ny=1).simulate(0.05, 0.01)
+    text = plot.caption(r)
+    for part in ("scene paper2016", "mesh 2 quads", "dt 0.01 s", "GeneralizedAlpha(rho_inf=0.8)", "fixed steps",
+                 f"deployfx {r.settings()['deployfx_version']}",
+                 f"run {r.settings()['run_started_utc'][:16].replace('T', ' ')} UTC"):
+        assert part in text
+    assert max(len(line) for line in text.splitlines()) <= 90  # fits the figure's width
+    for fig in (plot.deployment_angle(r), plot.angular_momentum(r), plot.body_attitude(r)):
+        assert fig.get_supxlabel() == text
+    # runs that differ list each value; results made by hand have no caption
+    r2 = scenes.paper2016(2, "rigid", nx=2, ny=1).simulate(0.05, 0.005)
+    assert "dt 0.01 s / dt 0.005 s" in plot.caption([r, r2]).replace("\n", " ")
+    assert plot.caption(Result({"t": [0.0, 1.0]})) == ""
+    assert plot.deployment_angle(Result({"t": [0.0, 1.0], "deployment_angle": [90.0, 180.0]})).get_supxlabel() == ""
 
 
 def test_figures_draw_into_given_axes_and_use_the_results_units():

@@ -21,7 +21,7 @@ from typing import Any, Optional, Sequence
 
 import numpy as np
 
-from . import _core, _video
+from . import _core, _figure_text, _video
 from ._checks import as_float
 from .model import Model
 from .results import PathLike, Result
@@ -132,7 +132,12 @@ def _picture(m: Model, result: Result, scale: float) -> dict:
     return dict(points=[m.world_points(q, k, t=result.t, scale=scale) for k in panels],
                 quads=[np.asarray(m.shells[k].quads, dtype=int) for k in panels], disp=disp,
                 axes=np.stack(axes, axis=1), r_W=r_W, R_WB=R_WB, point=np.asarray(first), span=span,
-                label=lambda i: "deployment angle " + ", ".join(f"{d:.1f}" for d in angle[i]) + " deg")
+                label=lambda i: _figure_text.DEPLOYMENT_ANGLE + " " + ", ".join(f"{d:.1f}" for d in angle[i]) + " deg")
+
+
+def _frame_text(t: float, angles: str) -> str:
+    """A frame's label, in the plots' words (deployfx.plot: "time (s)", "deployment angle (deg)")."""
+    return f"{_figure_text.TIME} {t:7.3f} s   {angles}"
 
 
 def _angles_deg(m: Model, q: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -160,7 +165,8 @@ def animate(model: Any, result: Result, path: PathLike, *, fps: float = 20.0, fr
     Each frame shows, in world axes (m), the base as a wire cube with its pose, every hinge axis
     and every panel: a deforming one's quads coloured by the magnitude of their elastic
     displacement (m; ``scale`` times it drawn), a rigid one in its own colour; with the time (s)
-    and each hinge's deployment angle (deg, as the result's ``deployment_angle``).
+    and each hinge's deployment angle (deg, as the result's ``deployment_angle``), labelled in
+    the plots' words, and the plots' caption line (:func:`deployfx.plot.caption`).
 
     ``model``: the :class:`~deployfx.Model` that made ``result`` (or a ready scene with a
     ``.model``). ``fps``: frames per second of the movie; ``frames``: how many (default: all
@@ -235,6 +241,9 @@ def animate(model: Any, result: Result, path: PathLike, *, fps: float = 20.0, fr
     edges = [ax.plot(*cubes[0][list(e)].T, color="0.3", lw=1.0)[0] for e in _EDGES]
     hinge_lines = [ax.plot(*h.T, color="tab:red", lw=1.5)[0] for h in hinges[0]]
     label = fig.text(0.02, 0.97, "", va="top", family="monospace")
+    caption = _figure_text.caption([result])
+    if caption:  # the plots' caption line (deployfx.plot.caption)
+        fig.supxlabel(caption, fontsize="x-small", color="0.35")
 
     writer = PillowWriter(fps=fps) if ffmpeg is None else FFMpegWriter(fps=fps)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -249,6 +258,6 @@ def animate(model: Any, result: Result, path: PathLike, *, fps: float = 20.0, fr
                 line.set_data_3d(*cubes[f][list(e)].T)
             for line, h in zip(hinge_lines, hinges[f]):
                 line.set_data_3d(*h.T)
-            label.set_text(f"t = {t[k]:7.3f} s   {pic['label'](k)}")
+            label.set_text(_frame_text(t[k], pic["label"](k)))
             writer.grab_frame()
     return path

@@ -385,6 +385,12 @@ class Model:
                     "lock": L.lock is not None, "lock_play_deg": None if L.lock is None else L.lock.play_deg,
                     "driven": L.hinge.spin_up is not None, "stowed_angle_deg": L.hinge.stowed_angle_deg,
                     "tip_node": int(self.tip_nodes[k])}
+            if L.hinge.spin_up is not None:
+                info["spin_up"] = {"omega_s_rad_per_s": float(L.hinge.spin_up.omega_s),
+                                   "t_s_s": float(L.hinge.spin_up.t_s)}
+            if L.appendage is not None:
+                info["mesh"] = {"nodes": int(L.appendage.shell.nodes.shape[0]),
+                                "quads": int(np.asarray(L.appendage.shell.quads).shape[0])}
             b = self.core.basis_info(k)
             if b is not None:
                 info.update(modes=b["modes"], static_corrections=b["static_corrections"],

@@ -4,11 +4,15 @@ deformed shape.
 The time-series functions take one :class:`~deployfx.results.Result` or a sequence of them
 (overlaid, e.g. linear vs nonlinear as in the paper) and return a
 :class:`matplotlib.figure.Figure`. Any Result works: a per-hinge series draws one curve per hinge
-(colour by hinge when there are several, else by run), and each run has its own line style, so
-curves that coincide stay visible. Curves are labelled with ``labels`` (one per result) if given,
-else with each run's ``metadata["model"]`` (a lone run without one gets no legend). Axis labels
-carry the series' units (from the result, else the paper scene's SI units; overlaid runs must
-agree). A result that lacks a needed series raises ``ValueError`` naming it. Functions with an
+(colour by hinge when there are several, else by run). Curves that coincide stay visible: the
+first run is a wide solid line drawn underneath, each later run a narrower dashed (dash-dot,
+dotted) line with its own sparse markers drawn over it. Curves are labelled with ``labels`` (one
+per result) if given, else with each run's ``metadata["model"]`` (a lone run without one gets no
+legend); vector components identically zero (below 1e-9 of the largest: the round-off of a motion
+about one axis) are neither drawn nor in the legend. Axis labels carry the series' units (from
+the result, else the paper scene's SI units; overlaid runs must agree). A figure the function
+makes has a caption line with the runs' settings (:func:`caption`; none for results made by
+hand). A result that lacks a needed series raises ``ValueError`` naming it. Functions with an
 ``ax`` argument draw into that Axes and return its figure; otherwise they make a new one.
 
 Figures are built without pyplot, so nothing is shown, no global figure list grows and no
@@ -24,6 +28,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
+from . import _figure_text
 from .animation import animate  # noqa: F401 (public as deployfx.plot.animate)
 from .results import PathLike, Result
 
@@ -39,7 +44,7 @@ _COMPONENT_STYLES = (("x", "-"), ("y", "--"), ("z", ":"))
 def deployment_angle(results: Results, labels: Optional[Sequence[str]] = None,
                      ax: Optional[Axes] = None) -> Figure:
     """Deployment angle (deg) against time (s), the paper's Fig. 7 (90 stowed, 180 deployed)."""
-    return _scalar(results, labels, ax, "deployment_angle", "deployment angle", "Deployment angle")
+    return _scalar(results, labels, ax, "deployment_angle", _figure_text.DEPLOYMENT_ANGLE, "Deployment angle")
 
 
 def spring_torque(results: Results, labels: Optional[Sequence[str]] = None,
@@ -76,27 +81,52 @@ def body_attitude(results: Results, labels: Optional[Sequence[str]] = None,
     component; components identically zero are left out.
     """
     runs = _runs(results, labels)
-    fig, ax = _axes(ax, (6.4, 4.0))
+    fig, ax, own = _axes(ax, (6.4, 4.0))
     _vector_lines(ax, runs, "body_attitude", "body attitude")
     _finish(ax, runs, "Attitude of the spacecraft body", legend=True)
-    return fig
+    return _captioned(fig, runs, own)
 
 
 def angular_momentum(results: Results, labels: Optional[Sequence[str]] = None) -> Figure:
-    """Angular momentum (N m s) against time (s), the paper's Fig. 12: the body's (top), exchanged
-    with the appendage, and the whole system's (bottom), which is conserved. Three components each:
-    colour marks the run, line style the component (x solid, y dashed, z dotted)."""
+    """Angular momentum against time (s), the paper's Fig. 12: the body's (top, N m s), exchanged
+    with the appendage, three components (colour marks the run and component, line style the
+    component: x solid, y dashed, z dotted); and the drift of the whole system's, which is
+    conserved (bottom): |H(t) - H(0)| / H_ref, dimensionless, with H_ref the angular momentum
+    the bodies carry (metadata ``momentum_scale``, as :meth:`Result.summary`'s
+    ``momentum_drift``; else the peak of |``body_angular_momentum``|)."""
     runs = _runs(results, labels)
+    _require_all(runs, ("body_angular_momentum", "total_angular_momentum"), vector=True)
     fig = Figure(figsize=(6.4, 6.0), layout="constrained")
     top, bottom = fig.subplots(2, 1, sharex=True)
     _vector_lines(top, runs, "body_angular_momentum", "body angular momentum")
-    _vector_lines(bottom, runs, "total_angular_momentum", "total angular momentum")
+    for k, (r, label) in enumerate(runs):
+        H = np.asarray(r["total_angular_momentum"])
+        bottom.plot(r.t, np.linalg.norm(H - H[0], axis=1) / _momentum_scale(r), label=label,
+                    **_run_style(k, len(runs), len(r.t)))
+    bottom.set_ylabel("total angular momentum drift\n|H - H(0)| / H_ref")
     top.set_title("Angular momentum")
     top.grid(True, alpha=0.3)
-    top.legend(fontsize="small", ncols=len(runs))
-    _finish(bottom, runs, None, legend=False)
+    if top.get_lines():
+        top.legend(fontsize="small", ncols=len(runs))
+    _finish(bottom, runs, None, legend=len(runs) > 1 and runs[0][1] is not None)
     top.set_xlabel("")
-    return fig
+    return _captioned(fig, runs, True)
+
+
+def _momentum_scale(r: Result) -> float:
+    """H_ref of angular_momentum: the run's metadata ``momentum_scale`` (N m s), else the peak of
+    |``body_angular_momentum``|; 1 if both are zero."""
+    scale = r.metadata.get("momentum_scale")
+    if isinstance(scale, dict) and scale.get("H_N_m_s"):
+        return float(scale["H_N_m_s"])
+    return float(np.linalg.norm(r["body_angular_momentum"], axis=1).max()) or 1.0
+
+
+def caption(results: Results) -> str:
+    """The caption of the figures (one or two lines): the runs' settings (:meth:`deployfx.Result.settings`:
+    scene, mesh, dt, scheme, tolerance, deployfx version, start time), a setting the runs differ
+    in as ``a / b``; '' for results made by hand. :func:`deployfx.plot.animate` shows the same."""
+    return _figure_text.caption([r for r, _ in _runs(results, None)])
 
 
 # (file, drawing function, series it needs, whether they are 3-vectors)
@@ -152,7 +182,7 @@ def deformed_shape(nodes_xy: object, quads: object, w: object, ax: Optional[Axes
         raise ValueError(f"quads must index the {n} nodes (0 .. {n - 1}), got indices "
                          f"{q.min()} .. {q.max()}")
     w = _float_array("w", w, (n,))
-    fig, ax = _axes(ax, (6.4, 4.4))
+    fig, ax, _ = _axes(ax, (6.4, 4.4))
     tri = Triangulation(xy[:, 0], xy[:, 1], np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]]))
     # Symmetric levels, widened by 1e-6 so that a field equal to its extreme (e.g. a uniform w,
     # a rigid translation) still falls strictly inside the top band and gets filled.
@@ -186,6 +216,11 @@ def _runs(results: Results, labels: Optional[Sequence[str]]) -> list[tuple[Resul
             for k, (r, m) in enumerate(zip(rs, models))]
 
 
+def _require_all(runs, names: Sequence[str], vector: bool) -> None:
+    for name in names:
+        _require(runs, name, vector)
+
+
 def _require(runs, name: str, vector: bool) -> None:
     for k, (r, label) in enumerate(runs):
         which = f"result {k}" + (f" ({label})" if label else "")
@@ -198,6 +233,20 @@ def _require(runs, name: str, vector: bool) -> None:
 
 
 _RUN_STYLES = ("-", "--", "-.", ":")
+_RUN_MARKERS = ("o", "s", "^", "v", "D")
+
+
+def _run_style(k: int, runs: int, samples: int) -> dict:
+    """Line options of run k of ``runs``: the first a wide solid line underneath, each later one
+    narrower, dashed, with about 12 markers (offset per run) and drawn over it."""
+    if runs == 1:
+        return dict(linestyle="-", linewidth=1.4)
+    every = max(1, samples // 12)
+    style = dict(linestyle=_RUN_STYLES[k % 4], linewidth=2.6 if k == 0 else 1.3, zorder=2 + k)
+    if k:
+        style.update(marker=_RUN_MARKERS[(k - 1) % len(_RUN_MARKERS)], markersize=4.5,
+                     markevery=((k * every) // runs, every), markerfacecolor="none")
+    return style
 
 
 def _unit(runs, name: str) -> str:
@@ -210,50 +259,71 @@ def _unit(runs, name: str) -> str:
 
 def _quantity(runs, name: str, quantity: str) -> str:
     unit = _unit(runs, name)
-    return f"{quantity} ({unit})" if unit else quantity
+    return _figure_text.label(quantity, unit)
 
 
-def _axes(ax: Optional[Axes], figsize: tuple[float, float]) -> tuple[Figure, Axes]:
+def _axes(ax: Optional[Axes], figsize: tuple[float, float]) -> tuple[Figure, Axes, bool]:
+    """The figure and axes to draw in, and whether the figure is this function's own."""
     if ax is not None:
-        return ax.figure, ax
+        return ax.figure, ax, False
     fig = Figure(figsize=figsize, layout="constrained")
-    return fig, fig.add_subplot()
+    return fig, fig.add_subplot(), True
+
+
+def _captioned(fig: Figure, runs, own: bool) -> Figure:
+    """The figure with the runs' settings as its bottom line, if it is the function's own."""
+    text = _figure_text.caption([r for r, _ in runs]) if own else ""
+    if text:
+        fig.supxlabel(text, fontsize="x-small", color="0.35")
+    return fig
 
 
 def _scalar(results: Results, labels, ax: Optional[Axes], name: str, quantity: str,
             title: str) -> Figure:
     runs = _runs(results, labels)
     _require(runs, name, vector=False)
-    fig, ax = _axes(ax, (6.4, 4.0))
+    fig, ax, own = _axes(ax, (6.4, 4.0))
     for k, (r, label) in enumerate(runs):
         y = np.asarray(r[name])
         y = y[:, None] if y.ndim == 1 else y
         H = y.shape[1]
         for h in range(H):
             text = label if H == 1 else (f"{label}, hinge {h}" if label else f"hinge {h}")
-            ax.plot(r.t, y[:, h], color=f"C{(h if H > 1 else k) % 10}", linestyle=_RUN_STYLES[k % 4],
-                    label=text, linewidth=1.2)
+            ax.plot(r.t, y[:, h], color=f"C{(h if H > 1 else k) % 10}", label=text,
+                    **_run_style(k, len(runs), len(r.t)))
     ax.set_ylabel(_quantity(runs, name, quantity))
     _finish(ax, runs, title, legend=any(line.get_label() and not line.get_label().startswith("_")
                                         for line in ax.get_lines()))
-    return fig
+    return _captioned(fig, runs, own)
 
 
 def _vector_lines(ax: Axes, runs, name: str, quantity: str) -> None:
-    """The three components of a (n, 3) series; components identically zero in every run are
-    left out (and from the legend)."""
+    """The components of a (n, 3) series that are not identically zero (_shown_components) in
+    some run; line style marks the component, colour the run and component, and later runs
+    are drawn narrower over earlier ones with markers (_run_style)."""
     _require(runs, name, vector=True)
-    shown = [j for j in range(3) if any(np.any(r[name][:, j] != 0) for r, _ in runs)] or [0, 1, 2]
     for k, (r, label) in enumerate(runs):
-        for j in shown:
+        for j in _shown_components(runs, name):
             axis, style = _COMPONENT_STYLES[j]
-            ax.plot(r.t, r[name][:, j], color=f"C{(3 * k + j) % 10}", linestyle=style, linewidth=1.2,
-                    label=f"{label}, {axis}" if label else axis)
+            options = dict(_run_style(k, len(runs), len(r.t)), linestyle=style)
+            ax.plot(r.t, r[name][:, j], color=f"C{(3 * k + j) % 10}", label=f"{label}, {axis}" if label else axis,
+                    **options)
     ax.set_ylabel(_quantity(runs, name, quantity))
 
 
+#: A vector component below this fraction of the series' largest is identically zero (round-off).
+ZERO_COMPONENT = 1e-9
+
+
+def _shown_components(runs, name: str) -> list[int]:
+    """The components of series ``name`` above ZERO_COMPONENT of its largest over every run (all
+    three if the series is zero throughout)."""
+    peak = np.array([np.abs(np.asarray(r[name])).max(axis=0) for r, _ in runs]).max(axis=0)
+    return [j for j in range(3) if peak[j] > ZERO_COMPONENT * peak.max()] or [0, 1, 2]
+
+
 def _finish(ax: Axes, runs, title: Optional[str], legend: bool) -> None:
-    ax.set_xlabel(_quantity(runs, "t", "time"))
+    ax.set_xlabel(_quantity(runs, "t", _figure_text.TIME))
     ax.grid(True, alpha=0.3)
     if title is not None:
         ax.set_title(title)

@@ -34,10 +34,12 @@ name                           unit      shape       meaning
 A scene may add its own series (the paper's ``node_E_deflection``, m, (n,)), and a run asked for
 node displacements adds ``node_displacements_<k>`` (m, (n, nodes, 3)).
 
-Metadata is a JSON-compatible dict. Keys the engine writes: the scene's description, ``hinges``
-(per hinge: parent, fidelity, lock, lock_play_deg, driven, stowed_angle_deg, basis), ``base_free``,
-``dt`` (s), ``t_end`` (s), ``integrator``, ``tolerance``, ``deployfx_version``,
-``run_started_utc``, ``wall_time_s``, the step counts and, when a run stopped early, ``failure``.
+Metadata is a JSON-compatible dict. Keys the engine writes: the scene's description (a ready
+scene's ``scene`` name and ``parameters``), ``hinges`` (per hinge: parent, fidelity, lock,
+lock_play_deg, driven, spin_up, stowed_angle_deg, mesh, basis), ``base_free``, ``dt`` (s),
+``t_end`` (s), ``integrator``, ``tolerance``, ``deployfx_version``, ``run_started_utc``,
+``wall_time_s``, the step counts and, when a run stopped early, ``failure``;
+:meth:`Result.settings` gathers the ones that say how the run was made.
 
 ``save(path)`` writes one ``.npz`` (no pickle); :func:`load` reads it back bit for bit.
 
@@ -79,7 +81,7 @@ PER_HINGE_SERIES = ("deployment_angle", "deployment_rate", "spring_torque", "loc
 _VECTOR_PER_HINGE_SERIES = ("hinge_force", "hinge_moment", "tip_displacement")
 #: Per-hinge metrics of :meth:`Result.summary` (lists, one value per hinge), in order.
 HINGE_KEYS = ("first_lock_time_s", "impacts", "peak_lock_force_N", "peak_lock_force_time_s", "peak_impact_impulse_N_s",
-              "settling_time_s", "max_tip_deflection_m",
+              "settling_time_s", "max_tip_deflection_m", "max_tip_deflection_time_s", "tip_deflection_after_spin_up_m",
               "peak_hinge_force_N", "peak_hinge_moment_Nm", "min_failure_margin", "critical_ply", "critical_element",
               "critical_time_s")
 #: System metrics of :meth:`Result.summary`, in order.
@@ -304,7 +306,11 @@ class Result:
           the lock's free play if wider (metadata ``hinges[k].lock_play_deg``: a latched pin may
           rest anywhere in its groove), and ``lock_force`` within 1 % of its peak of its final value
           from then on, for at least 1 s.
-        - ``max_tip_deflection_m`` (m): max |``tip_deflection``| (hinges carrying a deforming panel).
+        - ``max_tip_deflection_m`` (m), ``max_tip_deflection_time_s`` (s): max |``tip_deflection``|
+          and its first sample time (hinges carrying a deforming panel).
+        - ``tip_deflection_after_spin_up_m`` (m): max |``tip_deflection``| once a prescribed
+          spin-up has reached its final rate, t >= t_s (metadata ``hinges[k].spin_up``; None if
+          the run ends before t_s).
         - ``peak_hinge_force_N``, ``peak_hinge_moment_Nm``: max |``hinge_force``|, |``hinge_moment``|.
         - ``min_failure_margin``, ``critical_ply`` (0-based from the bottom), ``critical_element``
           (an index into the panel's quads), ``critical_time_s``: the ply failure envelope of a run
@@ -360,8 +366,14 @@ class Result:
                         t, angle, force, angle_tol=_angle_band(info.get("lock_play_deg")))
             tip = column("tip_deflection", k)
             if tip is not None and info.get("fidelity") not in (None, "rigid"):
-                measured.add("max_tip_deflection_m")
+                measured.update(("max_tip_deflection_m", "max_tip_deflection_time_s"))
                 per["max_tip_deflection_m"][k] = metrics.max_abs(tip, "tip_deflection")
+                per["max_tip_deflection_time_s"][k] = float(t[int(np.argmax(np.abs(tip)))])
+                spin_up = info.get("spin_up")
+                if isinstance(spin_up, dict) and "t_s_s" in spin_up:
+                    measured.add("tip_deflection_after_spin_up_m")
+                    after = np.asarray(tip)[np.asarray(t) >= spin_up["t_s_s"]]
+                    per["tip_deflection_after_spin_up_m"][k] = float(np.abs(after).max()) if after.size else None
             for key, name in (("peak_hinge_force_N", "hinge_force"), ("peak_hinge_moment_Nm", "hinge_moment")):
                 a = column(name, k)
                 if a is not None:
@@ -396,6 +408,21 @@ class Result:
             if self._metadata.get(key) is not None:
                 out[key] = self._metadata[key]
         return out
+
+    def settings(self) -> dict[str, Any]:
+        """How the run was made, from its metadata (None where a result built by hand lacks it):
+        ``scene`` (a ready scene's name or a scene file), ``parameters`` (the scene's
+        parameters), ``mesh`` and ``fidelity`` (per hinge: the panel's ``{"nodes", "quads"}`` and
+        fidelity, None without a panel), ``dt`` (s), ``t_end`` (s), ``scheme``, ``tolerance``
+        (None: fixed steps of ``dt``), ``deployfx_version`` and ``run_started_utc``."""
+        m = self._metadata
+        hinges = m.get("hinges") if isinstance(m.get("hinges"), list) else None
+        per = (lambda key: None if hinges is None else [h.get(key) if isinstance(h, dict) else None for h in hinges])
+        return copy.deepcopy({"scene": m.get("scene"), "parameters": m.get("parameters"), "mesh": per("mesh"),
+                              "fidelity": per("fidelity"), "dt": m.get("dt"), "t_end": m.get("t_end"),
+                              "scheme": m.get("integrator"), "tolerance": m.get("tolerance"),
+                              "deployfx_version": m.get("deployfx_version"),
+                              "run_started_utc": m.get("run_started_utc")})
 
     def _momentum_drift(self) -> Optional[float]:
         """The total momentum's largest change relative to the momentum the bodies carry

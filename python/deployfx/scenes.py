@@ -102,6 +102,25 @@ class Paper2016Parameters:
         check_field_types(self)  # lock='no' is an error, not a lock (issue 29)
 
 
+def _parameters(p: Paper2016Parameters) -> dict:
+    """The parameters as JSON values (Result.settings): the contact law and friction as a scene
+    file writes them (deployfx.scene_file), strengths as their fields."""
+    from .scene_file import _write_friction, _write_law
+
+    def value(v):
+        if isinstance(v, ContactLaw):
+            return _write_law(v)
+        if isinstance(v, Friction):
+            return _write_friction(v)
+        if isinstance(v, Strengths):  # its fields, not the core object it keeps
+            return {f.name: getattr(v, f.name) for f in dataclasses.fields(v) if f.init}
+        if isinstance(v, (list, tuple)):
+            return [value(x) for x in v]
+        return v
+
+    return {f.name: value(getattr(p, f.name)) for f in dataclasses.fields(p)}
+
+
 class Paper2016Scene:
     """The compiled scene; :meth:`simulate` returns the paper's series (issue 4) in the one
     vocabulary of :mod:`deployfx.results`, plus ``node_E_deflection`` and ``node_mid_deflection``
@@ -142,7 +161,8 @@ class Paper2016Scene:
                     scene.set_lock(lock.theta_lock, lock.pin_radius, lock.clearance, p.contact, friction=p.friction)
         self.scene = scene  #: the :class:`Scene` before compile (e.g. for deployfx.save_scene)
         self.model = scene.compile(description={"scene": "paper2016", "layup": p.layup, "mesh": f"{p.nx}x{p.ny}",
-                                                "model": str(fidelity), "wings": p.wings})
+                                                "model": str(fidelity), "wings": p.wings,
+                                                "parameters": _parameters(p)})
         # Node E: the free-end corner (x = L, y = W); also the free end's mid-width node.
         self.node_E = p.ny * (p.nx + 1) + p.nx
         self.node_mid = (p.ny // 2) * (p.nx + 1) + p.nx
@@ -212,7 +232,9 @@ class SpinUpBeamScene:
                       .set_hinge(point=(0.0, 0.0, 0.0), axis=(0.0, 1.0, 0.0), spin_up=(omega_s, t_s))
                       .set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity=model)
                       .compile(description={"scene": "spin_up_beam", "omega_s": omega_s, "t_s": t_s,
-                                            "mesh": f"{nx}x1", "model": model}))
+                                            "mesh": f"{nx}x1", "model": model,
+                                            "parameters": {"omega_s_rad_per_s": omega_s, "t_s_s": t_s,
+                                                           "model": model, "nx": nx, **SPIN_UP_BEAM}}))
 
     def simulate(self, t_end: float = 30.0, dt: float = 0.01, *, scheme=GeneralizedAlpha(0.9),
                  divergence_limit: Optional[float] = None, tolerance: Optional[float] = None) -> Result:
