@@ -1,0 +1,323 @@
+"""Modes about a state: the equations of motion linearised about (q, v, t), their eigenvalues as
+frequencies (Hz) and damping ratios, and the mode shapes (``Model.modes``; docs/modes.md).
+
+The engine's residual r(q, v, a, t) = 0 is linearised about a state on the coordinates that are
+unknowns of the model (``Model.layout``: a free base's six, the undriven hinge angles, the elastic
+coordinates; a prescribed hinge has no coordinate, so its angle is held at theta(t)):
+
+    M dv' + C dv + K dq = 0,   dq' = dv + G dq,
+    M = dr/da, C = dr/dv, K = dr/dq (along the base's retraction R_WB exp(dpsi)),
+
+with G = -[w_B]x on a free base's attitude block (the retraction's kinematics, dpsi' = dw -
+w x dpsi; zero elsewhere). In state space, [[G, I], [-K, -C]] z = lambda [[I, 0], [0, M]] z,
+solved dense (scipy.linalg.eig). A mode is an eigenvalue lambda with Im >= 0 (its conjugate is
+the same mode): natural frequency |lambda| / 2 pi, damping ratio -Re lambda / |lambda|, damped
+frequency |Im lambda| / 2 pi; the shape is the dq part of z, in the velocity coordinates.
+
+Rigid-body modes. A free base at rest (its rows and columns of C and K vanish: no velocity, no
+acceleration) is condensed exactly: zero total momentum, dv_b = -M_bb^-1 M_br dv_r, leaving the
+free-floating mass M_rr - M_rb M_bb^-1 M_br on the hinge and elastic coordinates; its six
+rigid-body modes (three translations, three rotations) never enter, and every shape carries the
+base's counter-motion. Any other mode with |lambda| / 2 pi below ``zero_hz`` (a hinge that
+nothing holds, a moving free base's rigid modes) is counted in ``num_rigid`` and left out.
+
+The lock is linearised as it stands: each wall in contact (penetration > 0) contributes its
+law's tangent, r_pin^2 dF/ddelta to the hinge stiffness and r_pin^2 dF/ddelta' to its damping
+(friction: the regularised law's slope at the slip rate, steep at rest); an open wall nothing.
+A latched pin that floats in its clearance leaves the hinge its spring (k_theta) only, or
+nothing: a zero mode.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Optional
+
+import numpy as np
+import scipy.linalg
+
+from ._checks import as_float, as_int
+
+__all__ = ["Modes", "modes", "relative_equilibrium", "SHIFT"]
+
+
+@dataclass(frozen=True, eq=False)
+class Modes:
+    """The lowest modes of a model linearised about one state (:meth:`deployfx.Model.modes`).
+
+    Arrays are per mode, in ascending natural frequency; ``shapes`` is (num_velocities, n), complex,
+    in the model's velocity coordinates (``Model.layout``), each scaled so that its largest entry
+    is 1 (real)."""
+
+    eigenvalues: np.ndarray = field(repr=False)      #: lambda (rad/s), Im >= 0
+    frequencies_hz: np.ndarray                       #: natural frequency |lambda| / 2 pi (Hz)
+    damping_ratios: np.ndarray                       #: -Re lambda / |lambda| (1: a real, decaying root; < 0 unstable)
+    shapes: np.ndarray = field(repr=False)           #: (num_velocities, n) complex
+    q: np.ndarray = field(repr=False)                #: the state linearised about: positions,
+    v: np.ndarray = field(repr=False)                #: velocities,
+    t: float                                         #: and time (s)
+    equilibrium: bool             #: whether q (and v) were moved to the relative equilibrium
+    num_rigid: int                #: rigid-body (zero) modes left out (6 for a free base, plus zero hinges)
+    model: Any = field(repr=False, default=None)
+
+    @property
+    def damped_frequencies_hz(self) -> np.ndarray:
+        """|Im lambda| / 2 pi (Hz): the frequency the mode rings at."""
+        return np.abs(self.eigenvalues.imag) / (2 * np.pi)
+
+    def __len__(self) -> int:
+        return len(self.eigenvalues)
+
+    def mesh_shapes(self, hinge: Optional[int] = None) -> np.ndarray:
+        """Hinge ``hinge``'s panel: each mode's elastic mesh displacements (n, 6 nodes), real part
+        (m and rad per unit shape, the panel frame C_k's axes; zeros for a rigid panel), ready for
+        drawing or export (e.g. as point data of its ShellModel's quads)."""
+        k = self.model._hinge(hinge, panel=True)
+        lay = self.model.core.layout(k)
+        n_el = lay["num_elastic"]
+        if n_el == 0:
+            return np.zeros((len(self), self.model.shells[k].num_dofs))
+        eta = self.shapes[lay["iv_elastic"]:lay["iv_elastic"] + n_el].real
+        return (self.model.core.displacement_map(k) @ eta).T
+
+    def hinge_shapes(self) -> np.ndarray:
+        """Each mode's undriven hinge angles (n, H), real part (rad per unit shape; 0 for a
+        prescribed hinge)."""
+        out = np.zeros((len(self), self.model.num_hinges))
+        for k in range(self.model.num_hinges):
+            i = self.model.core.layout(k)["iv_theta"]
+            if i >= 0:
+                out[:, k] = self.shapes[i].real
+        return out
+
+
+# ------------------------------------------------------------------------------------- state
+def _state_from(model, result, time, q, v, t):
+    """(q, v, t, sample index or None) from a result at ``time`` or from the given q, v, t."""
+    if result is not None:
+        if q is not None or v is not None or t is not None:
+            raise ValueError("give either result= and time=, or q= (v=, t=), not both")
+        if time is None:
+            raise ValueError("time is required with result= (s, within the run)")
+        time = as_float("time", time)
+        ts = np.asarray(result.t, dtype=float)
+        if "q" not in result or "v" not in result:
+            raise ValueError("result has no q, v series: it was not recorded by Model.simulate")
+        if not len(ts) or not (ts[0] <= time <= ts[-1]):
+            span = f"[{ts[0]:g}, {ts[-1]:g}]" if len(ts) else "(empty)"
+            raise ValueError(f"time = {time!r} is out of range: must be within the result's {span} s")
+        i = int(np.argmin(np.abs(ts - time)))  # the nearest recorded sample
+        Q, V = np.asarray(result["q"], dtype=float), np.asarray(result["v"], dtype=float)
+        if Q.ndim != 2 or Q.shape[1] != model.num_positions or V.shape[1:] != (model.num_velocities,):
+            raise ValueError(f"result's q, v have shapes {Q.shape}, {V.shape}: not a run of this model "
+                             f"({model.num_positions} positions, {model.num_velocities} velocities)")
+        return Q[i].copy(), V[i].copy(), float(ts[i]), i
+    if time is not None:
+        raise ValueError("time is given without result=: pass result= (a run of this model), or t=")
+    if q is None:
+        raise ValueError("give result= and time=, or the state q= (v=, t=)")
+    q = np.asarray(q, dtype=float)
+    if q.shape != (model.num_positions,) or not np.all(np.isfinite(q)):
+        raise ValueError(f"q must be {model.num_positions} finite numbers, got shape {q.shape}")
+    v = np.zeros(model.num_velocities) if v is None else np.asarray(v, dtype=float)
+    if v.shape != (model.num_velocities,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"v must be {model.num_velocities} finite numbers, got shape {v.shape}")
+    t = 0.0 if t is None else as_float("t", t)
+    if not np.isfinite(t):
+        raise ValueError(f"t = {t!r} is out of range: must be finite (s)")
+    return q.copy(), v.copy(), t, None
+
+
+def _onset_speed(result, k: int, wall: str, t: float) -> Optional[float]:
+    """The approach speed (m/s) of hinge k's contact on ``wall`` in progress at t, from the run's
+    impact records; None without one."""
+    if result is None:
+        return None
+    for r in reversed(result.impacts):
+        if r.hinge == k and r.wall == wall and r.t_onset_s <= t and (r.t_separation_s is None or r.t_separation_s > t):
+            return max(r.v_approach_m_s, 1e-3)
+    return None
+
+
+def _set_locks(model, data, q, v, latched, result, t) -> None:
+    """Each stop-and-latch lock's history as the state stands: latched as the run says (or once
+    theta has passed the latch), a wall in contact where the pin penetrates it (delta > 0)."""
+    from . import _core
+
+    for k, link in enumerate(model.links):
+        if link.lock is None:
+            continue
+        lay = model.core.layout(k)
+        L = link.lock
+        if not hasattr(L, "theta_lock"):
+            raise ValueError(f"hinge {k} has a groove lock: its contact history is not derived from a state; "
+                             f"pass data= (a run's data, Model.make_data, whose lock history you set)")
+        if lay["iq_theta"] < 0:
+            continue  # a prescribed hinge's lock never acts on an unknown
+        theta, rate = q[lay["iq_theta"]], v[lay["iv_theta"]]
+        theta_latch = L.theta_lock - L.clearance / L.pin_radius
+        h = _core.LockHistory()
+        h.latched = bool(latched[k]) if latched is not None else bool(theta >= theta_latch)
+        h.stop_contact = bool(L.pin_radius * (theta - L.theta_lock) > 0)
+        h.latch_contact = bool(h.latched and L.pin_radius * (theta_latch - theta) > 0)
+        h.stop_inside, h.latch_inside = h.stop_contact, h.latch_contact
+        approach = max(abs(L.pin_radius * rate), 1e-3)  # the engine keeps v0 >= 1 mm/s
+        h.stop_v0 = _onset_speed(result, k, "stop", t) or approach
+        h.latch_v0 = _onset_speed(result, k, "latch", t) or approach
+        data.set_lock(k, h)
+
+
+# ------------------------------------------------------------------------------- equilibrium
+def _relative(model) -> np.ndarray:
+    """The velocity indices of the hinge angles and elastic coordinates (not the base's)."""
+    return np.arange(6 if model.base_free else 0, model.num_velocities)
+
+
+def relative_equilibrium(model, q, t: float, *, data, result=None, latched=None, tol: float = 1e-10,
+                         max_iter: int = 50) -> np.ndarray:
+    """The relative equilibrium near ``q`` at time ``t``: with every undriven velocity and
+    acceleration zero (the driven hinges moving as prescribed at t: a steady spin once their ramp
+    is over), Newton on r(q, 0, 0, t) = 0 over the hinge angles and elastic coordinates, the
+    base's pose held; each lock's walls switched by their penetration at every iterate. A free
+    base must then be unloaded (its rows of r vanish), else ValueError: the state is no rest."""
+    rel = _relative(model)
+    nv = model.num_velocities
+    zero = np.zeros(nv)
+    q = q.copy()
+    force = None  # the largest residual entry at the start (N, N m): the scale of the loads
+    for _ in range(max_iter):
+        _set_locks(model, data, q, zero, latched, result, t)
+        r = model.residual(q, zero, zero, t, data=data)
+        force = np.abs(r).max() if force is None else force
+        if len(rel) == 0:
+            break
+        Krr = model.newton_matrix(q, zero, zero, t, 0.0, 0.0, 1.0, data=data)[np.ix_(rel, rel)]
+        scale = max(np.abs(Krr).max(), 1.0)
+        if np.abs(r[rel]).max() <= 1e-13 * scale:  # at rest already (e.g. a pin floating, no spring)
+            break
+        try:
+            dq_rel = np.linalg.solve(Krr, -r[rel])
+            ok = np.all(np.isfinite(dq_rel)) and np.abs(Krr @ dq_rel + r[rel]).max() <= 1e-8 * np.abs(r[rel]).max()
+        except np.linalg.LinAlgError:
+            ok = False
+        if not ok:  # a coordinate nothing holds: the least-squares step
+            dq_rel = np.linalg.lstsq(Krr, -r[rel], rcond=1e-14)[0]
+        dq = np.zeros(nv)
+        dq[rel] = dq_rel
+        q = model.core.retract(q, dq)
+        if np.abs(dq_rel).max() <= tol * max(1.0, np.abs(q).max()):
+            break
+    else:
+        raise ValueError(f"no equilibrium found near the state at t = {t:g} s: Newton did not converge in "
+                         f"{max_iter} iterations (|r| = {np.abs(r[rel]).max():.3g})")
+    _set_locks(model, data, q, zero, latched, result, t)
+    r = model.residual(q, zero, zero, t, data=data)
+    if model.base_free and np.abs(r[:6]).max() > 1e-8 * max(force, 1.0):
+        raise ValueError(f"no rest at t = {t:g} s: the free base is loaded at equilibrium (|r_base| = "
+                         f"{np.abs(r[:6]).max():.3g}; a prescribed hinge spinning or accelerating on a free base)")
+    return q
+
+
+# ---------------------------------------------------------------------------------- modes
+def modes(model, n: int, *, result=None, time: Optional[float] = None, q=None, v=None,
+          t: Optional[float] = None, equilibrium: bool = False, data=None, zero_hz: float = 1e-3) -> Modes:
+    """The implementation of :meth:`deployfx.Model.modes` (see there and the module docstring)."""
+    n = as_int("n", n)
+    if n < 1:
+        raise ValueError(f"n = {n} is out of range: must be >= 1 (the number of modes)")
+    zero_hz = as_float("zero_hz", zero_hz)
+    if not (np.isfinite(zero_hz) and zero_hz >= 0):
+        raise ValueError(f"zero_hz = {zero_hz!r} is out of range: must be finite and >= 0 (Hz)")
+    if not isinstance(equilibrium, (bool, np.bool_)):
+        raise TypeError(f"equilibrium must be True or False, got {equilibrium!r}")
+    q, v, t, i = _state_from(model, result, time, q, v, t)
+    latched = None
+    if i is not None and "latched" in result:
+        latched = np.atleast_1d(np.asarray(result["latched"])[i]).astype(bool)
+    own = data is None
+    data = model.make_data() if own else data
+    nv = model.num_velocities
+    if equilibrium:
+        if not own:
+            raise ValueError("equilibrium=True switches the locks' walls itself: leave data=None")
+        v = np.zeros(nv)
+        q = relative_equilibrium(model, q, t, data=data, result=result, latched=latched)
+        a = np.zeros(nv)
+    else:
+        if own:
+            _set_locks(model, data, q, v, latched, result, t)
+        # The accelerations the equations of motion give at the state: r is affine in a.
+        M = model.newton_matrix(q, v, np.zeros(nv), t, 1.0, 0.0, 0.0, data=data)
+        a = np.linalg.solve(M, -model.residual(q, v, np.zeros(nv), t, data=data))
+    M, C, K = (model.newton_matrix(q, v, a, t, *c, data=data) for c in ((1, 0, 0), (0, 1, 0), (0, 0, 1)))
+    lam, X, rigid = _solve(model, M, C, K, v)
+    keep = np.abs(lam) >= 2 * np.pi * zero_hz
+    rigid += (int(np.count_nonzero(~keep)) + 1) // 2  # a zero mode is a (Jordan) pair of state roots
+    lam, X = _upper(lam[keep], X[:, keep])
+    if n > len(lam):
+        raise ValueError(f"n = {n} is out of range: the linearised model has {len(lam)} modes besides its "
+                         f"{rigid} rigid-body ones")
+    order = np.argsort(np.abs(lam), kind="stable")[:n]
+    lam, X = lam[order], X[:, order]
+    big = np.argmax(np.abs(X), axis=0)
+    X = X / X[big, np.arange(X.shape[1])]
+    w = np.abs(lam)
+    return Modes(eigenvalues=lam, frequencies_hz=w / (2 * np.pi), damping_ratios=-lam.real / w, shapes=X,
+                 q=q, v=v, t=t, equilibrium=bool(equilibrium), num_rigid=rigid, model=model)
+
+
+
+def _solve(model, M, C, K, v):
+    """The state eigenvalues (both of each conjugate pair) and dq shapes (nv, m) of M x'' + C x' +
+    K x = 0 (with a free base's attitude kinematics), and the number of rigid-body modes left out
+    here."""
+    nv = len(M)
+    if not model.base_free:
+        return (*_state_space(M, C, K, np.zeros((nv, nv))), 0)
+    b, r = np.arange(6), _relative(model)
+    norm = max(np.abs(K).max(), np.abs(C).max(), 1e-300)
+    couple = max(np.abs(K[b]).max(), np.abs(K[:, b]).max(), np.abs(C[b]).max(), np.abs(C[:, b]).max())
+    if couple <= 1e-10 * norm and not np.any(v[b]):
+        # At rest: zero total momentum, dv_b = -M_bb^-1 M_br dv_r (exact; six rigid modes out).
+        Mbb_Mbr = np.linalg.solve(M[np.ix_(b, b)], M[np.ix_(b, r)])
+        Mr = M[np.ix_(r, r)] - M[np.ix_(r, b)] @ Mbb_Mbr
+        lam, Xr = _state_space(Mr, C[np.ix_(r, r)], K[np.ix_(r, r)], np.zeros((len(r), len(r))))
+        X = np.zeros((nv, Xr.shape[1]), dtype=complex)
+        X[b], X[r] = -Mbb_Mbr @ Xr, Xr
+        return lam, X, 6
+    # In motion: the six rigid-body modes are the twelve state eigenvalues nearest zero (exact
+    # zeros of translation and of the conserved momenta, the rest of the order of the base's rate).
+    G = np.zeros((nv, nv))
+    G[3:6, 3:6] = -_skew(v[3:6])  # dpsi' = dw - w x dpsi
+    lam, X = _state_space(M, C, K, G)
+    keep = np.argsort(np.abs(lam), kind="stable")[12:]
+    return lam[keep], X[:, keep], 6
+
+
+#: The shift (rad/s) of the inverse iteration: the eigenvalues nearest it come out to round-off
+#: relative to themselves, not to the stiffest mode's (a shell's drilling and membrane modes lie
+#: six orders of magnitude above its first bending mode); real and negative, so no undamped or
+#: lightly damped mode sits on it, and zero modes stay finite (mu = -1/sigma).
+SHIFT = -1.0
+
+
+def _state_space(M, C, K, G):
+    """All 2 n eigenvalues of A z = lambda B z, A = [[G, I], [-K, -C]], B = diag(I, M), and the dq
+    parts of z: from the shifted inverse (A - sigma B)^-1 B z = mu z, lambda = sigma + 1/mu."""
+    n = len(M)
+    I, Z = np.eye(n), np.zeros((n, n))
+    A = np.block([[G - SHIFT * I, I], [-K, -C - SHIFT * M]])
+    B = np.block([[I, Z], [Z, M]])
+    mu, V = np.linalg.eig(np.linalg.solve(A, B))
+    return SHIFT + 1.0 / mu, V[:n]
+
+
+def _upper(lam, X):
+    """One of each conjugate pair (Im >= 0), real roots as real."""
+    tiny = 1e-9 * np.maximum(np.abs(lam), 1.0)
+    ok = lam.imag >= -tiny
+    lam, X = lam[ok], X[:, ok]
+    return np.where(np.abs(lam.imag) <= tiny[ok], lam.real + 0j, lam), X
+
+
+def _skew(w) -> np.ndarray:
+    return np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
