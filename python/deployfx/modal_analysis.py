@@ -138,29 +138,47 @@ def _onset_speed(result, k: int, wall: str, t: float) -> Optional[float]:
     return None
 
 
-def _set_locks(model, data, q, v, latched, result, t) -> None:
-    """Each stop-and-latch lock's history as the state stands: latched as the run says (or once
-    theta has passed the latch), a wall in contact where the pin penetrates it (delta > 0)."""
-    from . import _core
+#: A wall penetrated by less than this (m) at an equilibrium is touched, not in contact: the pin
+#: rests on it with no force (Newton lands on the contact's edge only to its tolerance; the
+#: paper's Hertz law pushes 1 mN at 1 nm).
+TOUCH = 1e-9
 
+
+def _walls(model, q, latched, tol: float = 0.0) -> dict:
+    """Per stop-and-latch lock on an undriven hinge: (latched, stop in contact, latch in contact)
+    where the pin penetrates a wall by more than ``tol`` (m), latched as the run says (``latched``)
+    or once theta has passed the latch."""
+    out = {}
     for k, link in enumerate(model.links):
-        if link.lock is None:
-            continue
-        lay = model.core.layout(k)
         L = link.lock
+        if L is None:
+            continue
         if not hasattr(L, "theta_lock"):
             raise ValueError(f"hinge {k} has a groove lock: its contact history is not derived from a state; "
-                             f"pass data= (a run's data, Model.make_data, whose lock history you set)")
-        if lay["iq_theta"] < 0:
-            continue  # a prescribed hinge's lock never acts on an unknown
-        theta, rate = q[lay["iq_theta"]], v[lay["iv_theta"]]
+                             f"pass data= (a Model.make_data() whose lock history you set)")
+        iq = model.core.layout(k)["iq_theta"]
+        if iq < 0:
+            continue  # a prescribed hinge's lock acts on no unknown
+        theta = q[iq]
         theta_latch = L.theta_lock - L.clearance / L.pin_radius
+        held = bool(latched[k]) if latched is not None else bool(theta >= theta_latch)
+        out[k] = (held, bool(L.pin_radius * (theta - L.theta_lock) > tol),
+                  bool(held and L.pin_radius * (theta_latch - theta) > tol))
+    return out
+
+
+def _set_locks(model, data, v, walls: dict, result, t) -> None:
+    """Each lock's history from ``walls`` (:func:`_walls`): the approach speed of a contact in
+    progress from the run's impact records, else the pin's speed (at least 1 mm/s, the engine's
+    floor); read by the Hunt-Crossley laws only."""
+    from . import _core
+
+    for k, (held, stop, latch) in walls.items():
+        L = model.links[k].lock
         h = _core.LockHistory()
-        h.latched = bool(latched[k]) if latched is not None else bool(theta >= theta_latch)
-        h.stop_contact = bool(L.pin_radius * (theta - L.theta_lock) > 0)
-        h.latch_contact = bool(h.latched and L.pin_radius * (theta_latch - theta) > 0)
-        h.stop_inside, h.latch_inside = h.stop_contact, h.latch_contact
-        approach = max(abs(L.pin_radius * rate), 1e-3)  # the engine keeps v0 >= 1 mm/s
+        h.latched, h.stop_contact, h.latch_contact = held, stop, latch
+        h.stop_inside, h.latch_inside = stop, latch
+        approach = max(abs(L.pin_radius * v[model.core.layout(k)["iv_theta"]]), 1e-3)
         h.stop_v0 = _onset_speed(result, k, "stop", t) or approach
         h.latch_v0 = _onset_speed(result, k, "latch", t) or approach
         data.set_lock(k, h)
@@ -172,49 +190,64 @@ def _relative(model) -> np.ndarray:
     return np.arange(6 if model.base_free else 0, model.num_velocities)
 
 
-def relative_equilibrium(model, q, t: float, *, data, result=None, latched=None, tol: float = 1e-10,
+def relative_equilibrium(model, q, t: float, *, data, result=None, latched=None, tol: float = 1e-12,
                          max_iter: int = 50) -> np.ndarray:
     """The relative equilibrium near ``q`` at time ``t``: with every undriven velocity and
     acceleration zero (the driven hinges moving as prescribed at t: a steady spin once their ramp
     is over), Newton on r(q, 0, 0, t) = 0 over the hinge angles and elastic coordinates, the
-    base's pose held; each lock's walls switched by their penetration at every iterate. A free
-    base must then be unloaded (its rows of r vanish), else ValueError: the state is no rest."""
-    rel = _relative(model)
-    nv = model.num_velocities
-    zero = np.zeros(nv)
-    q = q.copy()
-    force = None  # the largest residual entry at the start (N, N m): the scale of the loads
-    for _ in range(max_iter):
-        _set_locks(model, data, q, zero, latched, result, t)
-        r = model.residual(q, zero, zero, t, data=data)
-        force = np.abs(r).max() if force is None else force
-        if len(rel) == 0:
+    base's pose held. The locks' walls form an active set: Newton with the walls penetrated at
+    the start in contact, then again with those penetrated (by more than ``TOUCH``) at its root,
+    until the set holds. A free base must then be unloaded (its rows of r vanish), else
+    ValueError: the state is no rest."""
+    zero = np.zeros(model.num_velocities)
+    walls = _walls(model, q, latched)
+    seen = []
+    while True:
+        _set_locks(model, data, zero, walls, result, t)
+        q, force = _newton(model, q, t, data, tol, max_iter)
+        settled = _walls(model, q, latched, TOUCH)
+        if settled == walls:
             break
-        Krr = model.newton_matrix(q, zero, zero, t, 0.0, 0.0, 1.0, data=data)[np.ix_(rel, rel)]
-        scale = max(np.abs(Krr).max(), 1.0)
-        if np.abs(r[rel]).max() <= 1e-13 * scale:  # at rest already (e.g. a pin floating, no spring)
-            break
-        try:
-            dq_rel = np.linalg.solve(Krr, -r[rel])
-            ok = np.all(np.isfinite(dq_rel)) and np.abs(Krr @ dq_rel + r[rel]).max() <= 1e-8 * np.abs(r[rel]).max()
-        except np.linalg.LinAlgError:
-            ok = False
-        if not ok:  # a coordinate nothing holds: the least-squares step
-            dq_rel = np.linalg.lstsq(Krr, -r[rel], rcond=1e-14)[0]
-        dq = np.zeros(nv)
-        dq[rel] = dq_rel
-        q = model.core.retract(q, dq)
-        if np.abs(dq_rel).max() <= tol * max(1.0, np.abs(q).max()):
-            break
-    else:
-        raise ValueError(f"no equilibrium found near the state at t = {t:g} s: Newton did not converge in "
-                         f"{max_iter} iterations (|r| = {np.abs(r[rel]).max():.3g})")
-    _set_locks(model, data, q, zero, latched, result, t)
+        if settled in seen:
+            raise ValueError(f"no equilibrium found near the state at t = {t:g} s: the lock's walls cycle "
+                             f"between {walls} and {settled} (hinge: (latched, stop, latch))")
+        seen.append(walls)
+        walls = settled
     r = model.residual(q, zero, zero, t, data=data)
     if model.base_free and np.abs(r[:6]).max() > 1e-8 * max(force, 1.0):
         raise ValueError(f"no rest at t = {t:g} s: the free base is loaded at equilibrium (|r_base| = "
                          f"{np.abs(r[:6]).max():.3g}; a prescribed hinge spinning or accelerating on a free base)")
     return q
+
+
+def _newton(model, q, t, data, tol, max_iter):
+    """Newton on the relative rows of r(q, 0, 0, t) under data's lock histories: (q, the largest
+    residual entry at the start, the scale of the loads)."""
+    rel = _relative(model)
+    nv = model.num_velocities
+    zero = np.zeros(nv)
+    q = q.copy()
+    force = None
+    for _ in range(max_iter):
+        r = model.residual(q, zero, zero, t, data=data)
+        force = np.abs(r).max() if force is None else force
+        if len(rel) == 0:
+            return q, force
+        Krr = model.newton_matrix(q, zero, zero, t, 0.0, 0.0, 1.0, data=data)[np.ix_(rel, rel)]
+        try:
+            dq_rel = np.linalg.solve(Krr, -r[rel])
+            ok = np.all(np.isfinite(dq_rel)) and np.abs(Krr @ dq_rel + r[rel]).max() <= 1e-8 * np.abs(r[rel]).max()
+        except np.linalg.LinAlgError:
+            ok = False
+        if not ok:  # a coordinate nothing holds (a pin floating in its play): the least-squares step
+            dq_rel = np.linalg.lstsq(Krr, -r[rel], rcond=1e-14)[0]
+        dq = np.zeros(nv)
+        dq[rel] = dq_rel
+        q = model.core.retract(q, dq)
+        if np.abs(dq_rel).max() <= tol * max(1.0, np.abs(q).max()):
+            return q, force
+    raise ValueError(f"no equilibrium found near the state at t = {t:g} s: Newton did not converge in "
+                     f"{max_iter} iterations (|r| = {np.abs(r[rel]).max():.3g})")
 
 
 # ---------------------------------------------------------------------------------- modes
@@ -244,7 +277,7 @@ def modes(model, n: int, *, result=None, time: Optional[float] = None, q=None, v
         a = np.zeros(nv)
     else:
         if own:
-            _set_locks(model, data, q, v, latched, result, t)
+            _set_locks(model, data, v, _walls(model, q, latched), result, t)
         # The accelerations the equations of motion give at the state: r is affine in a.
         M = model.newton_matrix(q, v, np.zeros(nv), t, 1.0, 0.0, 0.0, data=data)
         a = np.linalg.solve(M, -model.residual(q, v, np.zeros(nv), t, data=data))
