@@ -21,8 +21,8 @@ rigid-body modes (three translations, three rotations) never enter, and every sh
 base's counter-motion. Any other mode with |lambda| / 2 pi below ``zero_hz`` (a hinge that
 nothing holds, a moving free base's rigid modes) is counted in ``num_rigid`` and left out.
 
-The lock is linearised as it stands: each wall in contact (penetration > 0) contributes its
-law's tangent, r_pin^2 dF/ddelta to the hinge stiffness and r_pin^2 dF/ddelta' to its damping
+The lock is linearised as it stands: each wall in contact (penetration > 0; at an equilibrium,
+an active set with more than ``TOUCH``) contributes its law's tangent, r_pin^2 dF/ddelta to the hinge stiffness and r_pin^2 dF/ddelta' to its damping
 (friction: the regularised law's slope at the slip rate, steep at rest); an open wall nothing.
 A latched pin that floats in its clearance leaves the hinge its spring (k_theta) only, or
 nothing: a zero mode.

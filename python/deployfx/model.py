@@ -254,8 +254,9 @@ class Model:
 
         The state: ``result`` (a run of this model) at the recorded sample nearest ``time`` (s,
         within the run), or ``q`` (``v`` default 0, ``t`` default 0 s). The locks' walls are in
-        contact where the pin penetrates them, latched as the run recorded (or once past the
-        latch); ``data`` (a :meth:`make_data` with its lock histories set) overrides that.
+        contact where the pin penetrates them (at an equilibrium: by more than 1 nm), latched as
+        the run recorded (or once past the latch); ``data`` (a :meth:`make_data` with its lock
+        histories set) overrides that; a groove lock needs it.
         ``equilibrium=True`` first moves to the relative equilibrium near the state: every
         undriven velocity and acceleration zero, the prescribed hinges moving as at ``t`` (a
         steady spin once their ramp is over), Newton on the residual over the hinge angles and
