@@ -270,6 +270,44 @@ def test_latched_rigid_panel_relaxed_spring_and_floating_pin():
     assert m.frequencies_hz[0] > 0.5
 
 
+def contact_samples(r, count: int = 3) -> list:
+    """Output times in and out of the lock's contacts: nearest the middle of the run's first
+    ``count`` impacts, the last before each of their separations (where the pin may already be
+    out of the wall while it still pushes: the damper's share), and the first after."""
+    ends = [r.t[-1] if i.t_separation_s is None else i.t_separation_s for i in r.impacts[:count]]
+    mid = [0.5 * (i.t_onset_s + e) for i, e in zip(r.impacts[:count], ends)]
+    out = [float(r.t[np.argmin(np.abs(r.t - x))]) for x in mid]
+    out += [float(r.t[r.t < e][-1]) for e in ends] + [float(r.t[r.t > ends[0]][0]) if ends[0] < r.t[-1] else r.t[-1]]
+    return out
+
+
+@pytest.mark.parametrize("geometry, fidelity, law", [
+    ("stop-latch", "rigid", ContactLaw("hunt-crossley", K=KV_LAW.K, e=0.8)),   # v0 from the records
+    ("stop-latch", "reduced-linear", P.contact),
+    ("groove", "rigid", P.contact),
+    ("groove", "reduced-linear", P.contact),
+])
+def test_lock_history_from_the_state_is_the_runs(geometry, fidelity, law):
+    # The lock's history derived from a run's sample (latched as recorded, the walls with an impact
+    # in progress closed, their approach speeds; a groove's latch pin followed through the samples
+    # onto the facet it has dropped to) linearises exactly as the run's own history at that time
+    # (data=, the run stopped there), in contact and between contacts.
+    sc = scenes.paper2016(2, fidelity, nx=2, ny=1, modes=3, lock_geometry=geometry, contact=law)
+    times = sorted(set(contact_samples(sc.simulate(3.0, 0.01, progress=False))))
+    assert len(times) >= 2
+    closed = []
+    for t_end in times:
+        data = sc.model.make_data()
+        r = sc.model.simulate(t_end, 0.01, progress=False, data=data)
+        h = data.lock(0)
+        closed.append(any(f.closed for f in h.facets) if geometry == "groove" else h.stop_contact or h.latch_contact)
+        n = 1 if fidelity == "rigid" else 3
+        own = sc.model.modes(n, result=r, time=t_end, data=data)
+        derived = sc.model.modes(n, result=r, time=t_end)
+        np.testing.assert_allclose(derived.eigenvalues, own.eigenvalues, rtol=1e-10)
+    assert any(closed)  # a wall in contact at one sample at least
+
+
 # -------------------------------------------------------------- 3. locked flexible panel, fixed base
 def hinged_panel_reference(shell, fixed, k_h: float, J_fit: float, count: int) -> np.ndarray:
     """Frequencies (Hz) of the panel on a hinge about y through C's origin with a rotational

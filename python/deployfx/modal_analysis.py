@@ -10,34 +10,38 @@ coordinates; a prescribed hinge has no coordinate, so its angle is held at theta
 
 with G = -[w_B]x on a free base's attitude block (the retraction's kinematics, dpsi' = dw -
 w x dpsi; zero elsewhere). In state space, [[G, I], [-K, -C]] z = lambda [[I, 0], [0, M]] z,
-solved dense (scipy.linalg.eig). A mode is an eigenvalue lambda with Im >= 0 (its conjugate is
-the same mode): natural frequency |lambda| / 2 pi, damping ratio -Re lambda / |lambda|, damped
+solved dense through the shifted inverse (``SHIFT``), which gives the low modes to round-off
+however stiff the highest. A mode is an eigenvalue lambda with Im >= 0 (its conjugate is the
+same mode): natural frequency |lambda| / 2 pi, damping ratio -Re lambda / |lambda|, damped
 frequency |Im lambda| / 2 pi; the shape is the dq part of z, in the velocity coordinates.
 
 Rigid-body modes. A free base at rest (its rows and columns of C and K vanish: no velocity, no
 acceleration) is condensed exactly: zero total momentum, dv_b = -M_bb^-1 M_br dv_r, leaving the
 free-floating mass M_rr - M_rb M_bb^-1 M_br on the hinge and elastic coordinates; its six
 rigid-body modes (three translations, three rotations) never enter, and every shape carries the
-base's counter-motion. Any other mode with |lambda| / 2 pi below ``zero_hz`` (a hinge that
-nothing holds, a moving free base's rigid modes) is counted in ``num_rigid`` and left out.
+base's counter-motion. A free base in motion is solved whole, and its six rigid-body modes are
+the twelve state eigenvalues nearest zero, left out. Any other mode with |lambda| / 2 pi below
+``zero_hz`` (a hinge that nothing holds) is left out too; ``num_rigid`` counts them all.
 
-The lock is linearised as it stands: each wall in contact (penetration > 0; at an equilibrium,
-an active set with more than ``TOUCH``) contributes its law's tangent, r_pin^2 dF/ddelta to the hinge stiffness and r_pin^2 dF/ddelta' to its damping
-(friction: the regularised law's slope at the slip rate, steep at rest); an open wall nothing.
-A latched pin that floats in its clearance leaves the hinge its spring (k_theta) only, or
-nothing: a zero mode.
+The lock is linearised as it stands, with the history a run has there (a run's sample: its
+latch states, its impact records' contacts in progress, a groove's latch pin followed through
+the samples; a given state: the walls the pin penetrates; an equilibrium: an active set of the
+walls penetrated by more than ``TOUCH``): each wall in contact contributes its law's tangent,
+r_pin^2 dF/ddelta to the hinge stiffness and r_pin^2 dF/ddelta' to its damping (friction: the
+regularised law's slope at the slip rate, steep at rest); an open wall nothing. A latched pin
+that floats in its clearance leaves the hinge its spring (k_theta) only, or nothing: a zero mode.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
 import numpy as np
-import scipy.linalg
 
 from ._checks import as_float, as_int
 
-__all__ = ["Modes", "modes", "relative_equilibrium", "SHIFT"]
+__all__ = ["Modes", "modes", "relative_equilibrium", "SHIFT", "TOUCH"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -94,6 +98,10 @@ class Modes:
 def _state_from(model, result, time, q, v, t):
     """(q, v, t, sample index or None) from a result at ``time`` or from the given q, v, t."""
     if result is not None:
+        from .results import Result
+
+        if not isinstance(result, Result):
+            raise TypeError(f"result must be a deployfx.Result (a run of this model), got {type(result).__name__}")
         if q is not None or v is not None or t is not None:
             raise ValueError("give either result= and time=, or q= (v=, t=), not both")
         if time is None:
@@ -127,60 +135,156 @@ def _state_from(model, result, time, q, v, t):
     return q.copy(), v.copy(), t, None
 
 
-def _onset_speed(result, k: int, wall: str, t: float) -> Optional[float]:
-    """The approach speed (m/s) of hinge k's contact on ``wall`` in progress at t, from the run's
-    impact records; None without one."""
-    if result is None:
-        return None
-    for r in reversed(result.impacts):
-        if r.hinge == k and r.wall == wall and r.t_onset_s <= t and (r.t_separation_s is None or r.t_separation_s > t):
-            return max(r.v_approach_m_s, 1e-3)
-    return None
-
-
 #: A wall penetrated by less than this (m) at an equilibrium is touched, not in contact: the pin
 #: rests on it with no force (Newton lands on the contact's edge only to its tolerance; the
 #: paper's Hertz law pushes 1 mN at 1 nm).
 TOUCH = 1e-9
 
 
-def _walls(model, q, latched, tol: float = 0.0) -> dict:
-    """Per stop-and-latch lock on an undriven hinge: (latched, stop in contact, latch in contact)
-    where the pin penetrates a wall by more than ``tol`` (m), latched as the run says (``latched``)
-    or once theta has passed the latch."""
+@dataclass(frozen=True)
+class _Locks:
+    """What the locks' histories are derived from besides the configuration: the run's latch
+    states (per hinge, or None), each groove's latch-pin support, and the run (its impact records
+    say which walls are in contact at ``t``) when the state is its sample as it stands."""
+
+    latched: Optional[np.ndarray]
+    supports: dict
+    result: Any
+    t: float
+
+
+def _locks(model, q, result, i, t) -> _Locks:
+    """The lock context of a state: a run's sample ``i`` (``result``) or a given q."""
+    latched = None
+    if result is not None and "latched" in result:
+        latched = np.atleast_1d(np.asarray(result["latched"])[i]).astype(bool)
+        latched = latched if latched.shape == (model.num_hinges,) else None  # a hinge view: from theta
+    supports = {}
+    for k, link in enumerate(model.links):
+        L, iq = link.lock, model.core.layout(k)["iq_theta"]
+        if L is None or hasattr(L, "theta_lock") or iq < 0:
+            continue
+        thetas = [q[iq]] if result is None else np.asarray(result["q"], dtype=float)[: i + 1, iq]
+        supports[k] = _groove_support(L, thetas)
+    return _Locks(latched, supports, result, t)
+
+
+def _groove_support(L, thetas) -> int:
+    """The facet a groove's sprung latch pin rests on after the hinge angles ``thetas`` (a run's
+    samples up to the state; one angle for a given state): as a run starts (the first facet the
+    pin meets from its bore), kept while it carries the pin (``drop_margin`` >= 0), else the pin
+    drops onto the next facet it meets (the feasible one of largest compression below the last)."""
+    support = L.start_history(thetas[0]).support
+    if L.latch is None:
+        return support
+    w_last = np.inf
+    for theta in thetas:
+        h = L.start_history(theta)
+        h.support = support
+        pos = L.position(theta, h)
+        if support >= 0 and pos["found"] and pos["drop_margin"] >= 0:
+            w_last = pos["w"]
+            continue
+        best, w_best = h.support, -np.inf
+        for f in range(L.profile.num_facets):
+            h.support = f
+            p = L.position(theta, h)
+            if p["found"] and p["drop_margin"] >= 0 and w_best < p["w"] < w_last:
+                best, w_best = f, p["w"]
+        if w_best == -np.inf:  # nothing below: where a run would start from here
+            best = L.start_history(theta).support
+            h.support = best
+            w_best = L.position(theta, h)["w"]
+        support, w_last = best, w_best
+    return support
+
+
+def _in_progress(result, k: int, wall: str, t: float):
+    """The impact record of hinge k's contact on ``wall`` in progress at t, or None."""
+    for r in reversed(result.impacts):
+        if r.hinge == k and r.wall == wall and r.t_onset_s <= t and (r.t_separation_s is None or r.t_separation_s > t):
+            return r
+    return None
+
+
+def _walls(model, q, v, locks: _Locks, tol: float = 0.0) -> dict:
+    """Per lock on an undriven hinge, its contacts: a stop-and-latch lock's ``(latched, stop,
+    latch)``, latched as the run says or once theta has passed the latch; a groove's ``(support,
+    closed facets)``. A wall is in contact where the run's impact records have a contact in
+    progress at t (a run's sample as it stands), else where the pin penetrates it by more than
+    ``tol`` (m; a groove's facet tried closed under the run's start history at theta)."""
     out = {}
     for k, link in enumerate(model.links):
         L = link.lock
-        if L is None:
+        lay = model.core.layout(k)
+        if L is None or lay["iq_theta"] < 0:
+            continue  # no lock, or a prescribed hinge's: it acts on no unknown
+        theta, rate = q[lay["iq_theta"]], v[lay["iv_theta"]]
+        rec = locks.result
+        if hasattr(L, "theta_lock"):
+            theta_latch = L.theta_lock - L.clearance / L.pin_radius
+            held = bool(locks.latched[k]) if locks.latched is not None else bool(theta >= theta_latch)
+            if rec is not None:
+                stop = _in_progress(rec, k, "stop", locks.t) is not None
+                latch = _in_progress(rec, k, "latch", locks.t) is not None
+            else:
+                stop = L.pin_radius * (theta - L.theta_lock) > tol
+                latch = held and L.pin_radius * (theta_latch - theta) > tol
+            out[k] = (held, bool(stop), bool(latch))
             continue
-        if not hasattr(L, "theta_lock"):
-            raise ValueError(f"hinge {k} has a groove lock: its contact history is not derived from a state; "
-                             f"pass data= (a Model.make_data() whose lock history you set)")
-        iq = model.core.layout(k)["iq_theta"]
-        if iq < 0:
-            continue  # a prescribed hinge's lock acts on no unknown
-        theta = q[iq]
-        theta_latch = L.theta_lock - L.clearance / L.pin_radius
-        held = bool(latched[k]) if latched is not None else bool(theta >= theta_latch)
-        out[k] = (held, bool(L.pin_radius * (theta - L.theta_lock) > tol),
-                  bool(held and L.pin_radius * (theta_latch - theta) > tol))
+        support = locks.supports[k]
+        closed = []
+        for f in range(L.profile.num_facets):
+            if f == support:
+                continue  # carried by the latch spring: no contact of its own
+            if rec is not None:
+                if _in_progress(rec, k, f"facet {f}", locks.t) is not None:
+                    closed.append(f)
+            elif L.facet_state(f, theta, rate, _groove_history(L, theta, support, (f,)))["delta"] > tol:
+                closed.append(f)
+        out[k] = (support, tuple(closed))
     return out
 
 
-def _set_locks(model, data, v, walls: dict, result, t) -> None:
-    """Each lock's history from ``walls`` (:func:`_walls`): the approach speed of a contact in
-    progress from the run's impact records, else the pin's speed (at least 1 mm/s, the engine's
-    floor); read by the Hunt-Crossley laws only."""
+def _groove_history(L, theta, support: int, closed) -> Any:
+    """A groove's history at theta: as a run's start, the latch pin on ``support``, the facets
+    ``closed`` in contact (armed)."""
+    h = L.start_history(theta)
+    h.support = support
+    facets = h.facets
+    for f in closed:
+        facets[f].armed = facets[f].closed = facets[f].inside = True
+    h.facets = facets
+    return h
+
+
+def _set_locks(model, data, q, v, walls: dict, locks: _Locks) -> None:
+    """Each lock's history from ``walls`` (:func:`_walls`), with the approach speed of a contact
+    in progress from the run's impact records, else the pin's speed (at least 1 mm/s, the
+    engine's floor): only the Hunt-Crossley laws read it."""
     from . import _core
 
-    for k, (held, stop, latch) in walls.items():
+    def onset(k, wall, speed):
+        r = None if locks.result is None else _in_progress(locks.result, k, wall, locks.t)
+        return max(r.v_approach_m_s if r is not None else abs(speed), 1e-3)
+
+    for k, state in walls.items():
         L = model.links[k].lock
-        h = _core.LockHistory()
-        h.latched, h.stop_contact, h.latch_contact = held, stop, latch
-        h.stop_inside, h.latch_inside = stop, latch
-        approach = max(abs(L.pin_radius * v[model.core.layout(k)["iv_theta"]]), 1e-3)
-        h.stop_v0 = _onset_speed(result, k, "stop", t) or approach
-        h.latch_v0 = _onset_speed(result, k, "latch", t) or approach
+        lay = model.core.layout(k)
+        theta, rate = q[lay["iq_theta"]], v[lay["iv_theta"]]
+        if hasattr(L, "theta_lock"):
+            h = _core.LockHistory()
+            h.latched, h.stop_contact, h.latch_contact = state
+            h.stop_inside, h.latch_inside = h.stop_contact, h.latch_contact
+            h.stop_v0 = onset(k, "stop", L.pin_radius * rate)
+            h.latch_v0 = onset(k, "latch", L.pin_radius * rate)
+        else:
+            support, closed = state
+            h = _groove_history(L, theta, support, closed)
+            facets = h.facets
+            for f in closed:
+                facets[f].v0 = onset(k, f"facet {f}", L.lever(f, theta, h) * rate)
+            h.facets = facets
         data.set_lock(k, h)
 
 
@@ -190,27 +294,37 @@ def _relative(model) -> np.ndarray:
     return np.arange(6 if model.base_free else 0, model.num_velocities)
 
 
-def relative_equilibrium(model, q, t: float, *, data, result=None, latched=None, tol: float = 1e-12,
-                         max_iter: int = 50) -> np.ndarray:
-    """The relative equilibrium near ``q`` at time ``t``: with every undriven velocity and
-    acceleration zero (the driven hinges moving as prescribed at t: a steady spin once their ramp
-    is over), Newton on r(q, 0, 0, t) = 0 over the hinge angles and elastic coordinates, the
-    base's pose held. The locks' walls form an active set: Newton with the walls penetrated at
-    the start in contact, then again with those penetrated (by more than ``TOUCH``) at its root,
-    until the set holds. A free base must then be unloaded (its rows of r vanish), else
-    ValueError: the state is no rest."""
+def relative_equilibrium(model, q, t: float = 0.0, *, tol: float = 1e-12, max_iter: int = 50) -> np.ndarray:
+    """The relative equilibrium near the configuration ``q`` at time ``t`` (s), as
+    ``Model.modes(..., equilibrium=True)`` finds it: with every undriven velocity and acceleration
+    zero (the driven hinges moving as prescribed at t: a steady spin once their ramp is over),
+    Newton on r(q, 0, 0, t) = 0 over the hinge angles and elastic coordinates, the base's pose
+    held, until the step is below ``tol`` of the coordinates. The locks' walls form an active set:
+    Newton with the walls in contact at the start, then again with those the pin penetrates by more
+    than ``TOUCH`` at its root, until the set holds. A free base must then be unloaded (its rows of
+    r vanish), else ValueError: the state is no rest."""
+    q = np.asarray(q, dtype=float)
+    if q.shape != (model.num_positions,) or not np.all(np.isfinite(q)):
+        raise ValueError(f"q must be {model.num_positions} finite numbers, got shape {q.shape}")
+    t = as_float("t", t)
+    return _relative_equilibrium(model, q, t, model.make_data(), _locks(model, q, None, 0, t), tol, max_iter)
+
+
+def _relative_equilibrium(model, q, t, data, locks: _Locks, tol, max_iter) -> np.ndarray:
     zero = np.zeros(model.num_velocities)
-    walls = _walls(model, q, latched)
+    by_penetration = dataclasses.replace(locks, result=None)
+    walls = _walls(model, q, zero, locks)
     seen = []
     while True:
-        _set_locks(model, data, zero, walls, result, t)
+        _set_locks(model, data, q, zero, walls, locks)
         q, force = _newton(model, q, t, data, tol, max_iter)
-        settled = _walls(model, q, latched, TOUCH)
+        settled = _walls(model, q, zero, by_penetration, TOUCH)
         if settled == walls:
             break
         if settled in seen:
             raise ValueError(f"no equilibrium found near the state at t = {t:g} s: the lock's walls cycle "
-                             f"between {walls} and {settled} (hinge: (latched, stop, latch))")
+                             f"between {walls} and {settled} (hinge: (latched, stop, latch) or a groove's "
+                             f"(support, closed facets))")
         seen.append(walls)
         walls = settled
     r = model.residual(q, zero, zero, t, data=data)
@@ -263,21 +377,19 @@ def modes(model, n: int, *, result=None, time: Optional[float] = None, q=None, v
     if not isinstance(equilibrium, (bool, np.bool_)):
         raise TypeError(f"equilibrium must be True or False, got {equilibrium!r}")
     q, v, t, i = _state_from(model, result, time, q, v, t)
-    latched = None
-    if i is not None and "latched" in result:
-        latched = np.atleast_1d(np.asarray(result["latched"])[i]).astype(bool)
     own = data is None
     data = model.make_data() if own else data
     nv = model.num_velocities
+    locks = _locks(model, q, result, i, t) if own else None
     if equilibrium:
         if not own:
             raise ValueError("equilibrium=True switches the locks' walls itself: leave data=None")
         v = np.zeros(nv)
-        q = relative_equilibrium(model, q, t, data=data, result=result, latched=latched)
+        q = _relative_equilibrium(model, q, t, data, locks, 1e-12, 50)
         a = np.zeros(nv)
     else:
         if own:
-            _set_locks(model, data, v, _walls(model, q, latched), result, t)
+            _set_locks(model, data, q, v, _walls(model, q, v, locks), locks)
         # The accelerations the equations of motion give at the state: r is affine in a.
         M = model.newton_matrix(q, v, np.zeros(nv), t, 1.0, 0.0, 0.0, data=data)
         a = np.linalg.solve(M, -model.residual(q, v, np.zeros(nv), t, data=data))

@@ -253,10 +253,12 @@ class Model:
         ``shapes`` in the velocity coordinates, ``mesh_shapes(k)``).
 
         The state: ``result`` (a run of this model) at the recorded sample nearest ``time`` (s,
-        within the run), or ``q`` (``v`` default 0, ``t`` default 0 s). The locks' walls are in
-        contact where the pin penetrates them (at an equilibrium: by more than 1 nm), latched as
-        the run recorded (or once past the latch); ``data`` (a :meth:`make_data` with its lock
-        histories set) overrides that; a groove lock needs it.
+        within the run), or ``q`` (``v`` default 0, ``t`` default 0 s). The locks' histories are
+        the run's at that sample (latched as recorded, the contacts its impact records have in
+        progress, a groove's latch pin followed through the samples); for a given q, latched
+        once past the latch and in contact where the pin penetrates a wall; at an equilibrium,
+        where it penetrates by more than 1 nm. ``data`` (a :meth:`make_data` with its lock
+        histories set, e.g. the run's own at its end) overrides that.
         ``equilibrium=True`` first moves to the relative equilibrium near the state: every
         undriven velocity and acceleration zero, the prescribed hinges moving as at ``t`` (a
         steady spin once their ramp is over), Newton on the residual over the hinge angles and
