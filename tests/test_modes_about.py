@@ -345,6 +345,32 @@ def test_locked_flexible_panel_on_a_fixed_base():
     np.testing.assert_allclose(m.damping_ratios, 0.0, atol=1e-9)
     clamped, _ = shell.modes(3, list(fixed))
     np.testing.assert_allclose(m.frequencies_hz[:3], clamped, rtol=2e-3)
+    # The shapes in W: the hinge's rotation about its axis (the panel frame C's y, through its
+    # origin) carries the mesh as theta (z, 0, -x), plus the elastic displacement, both in C's
+    # axes (turned from B's by the pin's penetration into the stop); world_shapes linearises the
+    # engine's kinematics instead.
+    X = np.asarray(shell.nodes)
+    rigid = np.stack([X[:, 2], 0 * X[:, 0], -X[:, 0]], axis=1)
+    local = m.hinge_shapes()[:, 0, None, None] * rigid + m.mesh_shapes(0).reshape(len(m), -1, 6)[:, :, :3]
+    R_WC = sc.model.frames(m.q)[0][0, 0]
+    np.testing.assert_allclose(m.world_shapes(0), local @ R_WC.T, atol=1e-9)
+
+
+def test_modes_export_to_vtk(tmp_path):
+    meshio = pytest.importorskip("meshio")
+    from deployfx import export
+
+    sc = scenes.paper2016(2, "reduced-linear", nx=4, ny=2, modes=4, base_free=False, damping=(0.0, 0.0))
+    m = sc.model.modes(3, q=deployed_q(sc.model), equilibrium=True)
+    path = export.write_modes_vtk(m, tmp_path / "modes.vtu")
+    mesh = meshio.read(path)
+    np.testing.assert_allclose(mesh.points, sc.model.world_points(m.q, 0)[0], atol=1e-12)
+    for j in range(3):
+        np.testing.assert_allclose(mesh.point_data[f"mode_{j + 1}"], m.world_shapes(0)[j], atol=1e-12)
+    table = np.loadtxt(tmp_path / "modes_modes.csv", delimiter=",", skiprows=1)
+    np.testing.assert_allclose(table[:, 1], m.frequencies_hz, rtol=1e-9)
+    with pytest.raises(TypeError, match="modes must be a deployfx.Modes"):
+        export.write_modes_vtk(m.frequencies_hz, tmp_path / "x.vtu")
 
 
 # ------------------------------------------------------------------------------- bad input
@@ -373,3 +399,15 @@ def test_bad_input_names_the_parameter():
         model.modes(2, q=q, equilibrium=True)
     with pytest.raises(ValueError, match="not a run of this model"):
         scenes.paper2016(2, "rigid", nx=2, ny=1, base_free=False).model.modes(1, result=r, time=0.1)
+    with pytest.raises(ValueError, match=r"v must be 7 finite numbers"):
+        model.modes(1, q=q, v=np.zeros(6))
+    with pytest.raises(TypeError, match="result must be a deployfx.Result"):
+        model.modes(1, result=r.t, time=0.1)
+    with pytest.raises(TypeError, match="equilibrium must be True or False"):
+        model.modes(1, q=q, equilibrium="yes")
+    with pytest.raises(ValueError, match="time is given without result="):
+        model.modes(1, q=q, time=0.1)
+    with pytest.raises(ValueError, match="equilibrium=True switches the locks' walls itself"):
+        model.modes(1, q=q, equilibrium=True, data=model.make_data())
+    # time picks the nearest recorded sample, reported as Modes.t
+    assert model.modes(1, result=r, time=0.126).t == pytest.approx(0.15)

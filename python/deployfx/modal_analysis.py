@@ -83,6 +83,22 @@ class Modes:
         eta = self.shapes[lay["iv_elastic"]:lay["iv_elastic"] + n_el].real
         return (self.model.core.displacement_map(k) @ eta).T
 
+    def world_shapes(self, hinge: Optional[int] = None) -> np.ndarray:
+        """Hinge ``hinge``'s panel nodes' motion in W per unit shape, (n, nodes, 3), real part: the
+        bodies' motion (base, hinges) and the elastic one together, the linearisation of the
+        engine's kinematics (``Model.world_points``) along each shape by central differences
+        (step 1e-6 of the shape's largest entry: exact to 1e-12 of it)."""
+        m = self.model
+        k = m._hinge(hinge, panel=True)
+        eps = 1e-6
+        out = np.zeros((len(self), m.shells[k].num_dofs // 6, 3))
+        for j in range(len(self)):
+            dq = eps * self.shapes[:, j].real
+            ends = np.stack([m.core.retract(self.q, dq), m.core.retract(self.q, -dq)])
+            X = m.world_points(ends, k, t=np.full(2, self.t))
+            out[j] = (X[0] - X[1]) / (2 * eps)
+        return out
+
     def hinge_shapes(self) -> np.ndarray:
         """Each mode's undriven hinge angles (n, H), real part (rad per unit shape; 0 for a
         prescribed hinge)."""
