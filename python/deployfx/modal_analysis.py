@@ -422,8 +422,11 @@ def modes(model, n: int, *, result=None, time: Optional[float] = None, q=None, v
     big = np.argmax(np.abs(X), axis=0)
     X = X / X[big, np.arange(X.shape[1])]
     w = np.abs(lam)
-    return Modes(eigenvalues=lam, frequencies_hz=w / (2 * np.pi), damping_ratios=-lam.real / w, shapes=X,
-                 q=q, v=v, t=t, equilibrium=bool(equilibrium), num_rigid=rigid, model=model)
+    arrays = {"eigenvalues": lam, "frequencies_hz": w / (2 * np.pi), "damping_ratios": -lam.real / w + 0.0, "shapes": X,
+              "q": q, "v": v}
+    for a in arrays.values():
+        a.setflags(write=False)  # a frozen result: its arrays too
+    return Modes(**arrays, t=t, equilibrium=bool(equilibrium), num_rigid=rigid, model=model)
 
 
 
