@@ -225,6 +225,49 @@ def test_latched_rigid_panel_from_a_run_equals_the_closed_form():
     assert moving.num_rigid == 6 and not moving.equilibrium and np.isfinite(moving.frequencies_hz[0])
 
 
+def symmetric_flap(Omega: float) -> float:
+    """omega (rad/s) of the symmetric flap of the two-wing spacecraft (rigid panels, relaxed
+    springs) spinning at Omega about z through its centre of mass (the base's origin).
+
+    Both panels turn by beta about their hinge axes (tips toward -z alike): by the symmetry of a
+    half turn about z this mode moves only the base along z (zero momentum: M z_b' = 2 S beta',
+    S = m d the panel's first moment about its hinge) and leaves the spin alone to first order
+    (the flap velocity is along the spin: no Coriolis force; I_zz changes as beta^2). Kinetic
+    energy per panel 1/2 (J - 2 S^2/M) beta'^2, J = I_yy + m d^2 + J_fitting about the hinge;
+    potential per panel 1/2 k beta^2 - 1/2 Omega^2 I_zz,O(beta), I_zz,O(beta) = I_zz cos^2 beta +
+    I_xx sin^2 beta + m (e + d cos beta)^2 about the spin axis (e the hinge's distance from it):
+        omega^2 = [k + Omega^2 (I_zz - I_xx + m d (e + d))] / (J - 2 S^2 / M),
+    the plate's I_zz - I_xx = m (L^2 - h^2)/12, I_yy = m (L^2 + h^2)/12 (the rotating blade's
+    centrifugal flap stiffening, with hinge offset e)."""
+    h = 4 * paper.PLY_THICKNESS
+    m = paper.IM6_SC1081.rho * h * paper.LENGTH * paper.WIDTH
+    L, d, e = paper.LENGTH, P.root_offset + paper.LENGTH / 2, P.hinge_x
+    M = P.body_mass + 2 * P.yoke_mass + 2 * m
+    J = m * (L**2 + h**2) / 12 + m * d**2 + P.fitting_inertia
+    return np.sqrt((P.k_theta + Omega**2 * (m * (L**2 - h**2) / 12 + m * d * (e + d))) / (J - 2 * (m * d) ** 2 / M))
+
+
+def test_spinning_spacecraft_symmetric_flap():
+    # The state in motion: the base spins at 0.3 rad/s (v = w_B), the relative equilibrium keeps
+    # the spin (the rigid motion carrying the state's momentum), and the modes come from the
+    # whole system with the attitude's kinematics (G = -[w_B]x), its six rigid-body modes the
+    # twelve state roots nearest zero. The centrifugal load stiffens the flap by 17 %.
+    sc = scenes.paper2016(2, "rigid", nx=4, ny=2, wings=2, friction=Friction(0.0), contact=KV_LAW)
+    v = np.zeros(sc.model.num_velocities)
+    v[5] = 0.3
+    m = sc.model.modes(2, q=deployed_q(sc.model), v=v, equilibrium=True)
+    assert m.num_rigid == 6 and m.v[5] == pytest.approx(0.3, rel=1e-12)
+    sym = np.flatnonzero(np.abs(m.hinge_shapes()[:, 0] - m.hinge_shapes()[:, 1]) < 1e-6)
+    assert sym.size == 1
+    omega = 2 * np.pi * m.frequencies_hz[sym[0]]
+    assert omega == pytest.approx(symmetric_flap(0.3), rel=1e-8)
+    assert omega / symmetric_flap(0.0) == pytest.approx(1.17, abs=0.01)
+    assert abs(m.damping_ratios).max() < 1e-10
+    rest = sc.model.modes(2, q=deployed_q(sc.model), equilibrium=True)
+    sym = np.flatnonzero(np.abs(rest.hinge_shapes()[:, 0] - rest.hinge_shapes()[:, 1]) < 1e-6)
+    assert 2 * np.pi * rest.frequencies_hz[sym[0]] == pytest.approx(symmetric_flap(0.0), rel=1e-8)
+
+
 def test_free_base_in_uniform_translation_has_the_modes_at_rest():
     # Galilean invariance: the latched spacecraft drifting at 1 m/s (diagonal) has the modes it
     # has at rest. At rest the base is condensed at zero momentum; in motion the full system is

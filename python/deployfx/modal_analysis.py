@@ -310,30 +310,43 @@ def _relative(model) -> np.ndarray:
     return np.arange(6 if model.base_free else 0, model.num_velocities)
 
 
-def relative_equilibrium(model, q, t: float = 0.0, *, tol: float = 1e-12, max_iter: int = 50) -> np.ndarray:
-    """The relative equilibrium near the configuration ``q`` at time ``t`` (s), as
-    ``Model.modes(..., equilibrium=True)`` finds it: with every undriven velocity and acceleration
-    zero (the driven hinges moving as prescribed at t: a steady spin once their ramp is over),
-    Newton on r(q, 0, 0, t) = 0 over the hinge angles and elastic coordinates, the base's pose
-    held, until the step is below ``tol`` of the coordinates. The locks' walls form an active set:
-    Newton with the walls in contact at the start, then again with those the pin penetrates by more
-    than ``TOUCH`` at its root, until the set holds. A free base must then be unloaded (its rows of
-    r vanish), else ValueError: the state is no rest."""
+def relative_equilibrium(model, q, t: float = 0.0, *, v=None, tol: float = 1e-12,
+                         max_iter: int = 50) -> tuple[np.ndarray, np.ndarray]:
+    """The relative equilibrium (q, v) near the state (``q``, ``v`` default 0) at time ``t`` (s),
+    as ``Model.modes(..., equilibrium=True)`` finds it: every undriven hinge and elastic velocity
+    and acceleration zero, the driven hinges moving as prescribed at t (a steady spin once their
+    ramp is over), a free base's pose held and its velocity the rigid motion that carries the
+    state's momentum [P; H] (zero momentum: at rest; a spinning spacecraft keeps its spin);
+    Newton on r(q, v, 0, t) = 0 over the hinge angles and elastic coordinates until the step is
+    below ``tol`` of the coordinates. The locks' walls form an active set: Newton with the walls
+    in contact at the start, then again with those the pin penetrates by more than ``TOUCH`` at
+    its root, until the set holds. A free base must then be unloaded (its rows of r vanish at zero
+    acceleration: at rest, or spinning steadily about a principal axis), else ValueError."""
     q = np.asarray(q, dtype=float)
     if q.shape != (model.num_positions,) or not np.all(np.isfinite(q)):
         raise ValueError(f"q must be {model.num_positions} finite numbers, got shape {q.shape}")
+    v = np.zeros(model.num_velocities) if v is None else np.asarray(v, dtype=float)
+    if v.shape != (model.num_velocities,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"v must be {model.num_velocities} finite numbers, got shape {v.shape}")
     t = as_float("t", t)
-    return _relative_equilibrium(model, q, t, model.make_data(), _locks(model, q, None, 0, t), tol, max_iter)
+    return _relative_equilibrium(model, q, v, t, model.make_data(), _locks(model, q, None, 0, t), tol, max_iter)
 
 
-def _relative_equilibrium(model, q, t, data, locks: _Locks, tol, max_iter) -> np.ndarray:
+def _relative_equilibrium(model, q, v, t, data, locks: _Locks, tol, max_iter):
     zero = np.zeros(model.num_velocities)
+    momentum = None
+    if model.base_free:
+        momentum = model.momentum(q, v, t=t, data=data)
+        # A run from rest conserves zero momentum to round-off: zero it, so that the base rests.
+        carried = np.abs(model.momentum_jacobian(q, v, 1.0, 0.0, data=data)) @ np.abs(v)
+        if np.all(np.abs(momentum) <= 1e-9 * carried.max()):
+            momentum = np.zeros(6)
     by_penetration = dataclasses.replace(locks, result=None)
     walls = _walls(model, q, zero, locks)
     seen = []
     while True:
         _set_locks(model, data, q, zero, walls, locks)
-        q, force = _newton(model, q, t, data, tol, max_iter)
+        q, v, force = _newton(model, q, t, data, momentum, tol, max_iter)
         settled = _walls(model, q, zero, by_penetration, TOUCH)
         if settled == walls:
             break
@@ -343,27 +356,43 @@ def _relative_equilibrium(model, q, t, data, locks: _Locks, tol, max_iter) -> np
                              f"(support, closed facets))")
         seen.append(walls)
         walls = settled
-    r = model.residual(q, zero, zero, t, data=data)
-    if model.base_free and np.abs(r[:6]).max() > 1e-8 * max(force, 1.0):
-        raise ValueError(f"no rest at t = {t:g} s: the free base is loaded at equilibrium (|r_base| = "
-                         f"{np.abs(r[:6]).max():.3g}; a prescribed hinge spinning or accelerating on a free base)")
-    return q
+    if model.base_free:
+        r = model.residual(q, v, zero, t, data=data)
+        scale = max(force, 1.0, float(np.abs(momentum[3:]).max() * np.abs(v[3:6]).max()))
+        if np.abs(r[:6]).max() > 1e-8 * scale:
+            raise ValueError(f"no relative equilibrium at t = {t:g} s: the free base is loaded (|r_base| = "
+                             f"{np.abs(r[:6]).max():.3g}): a prescribed hinge spinning or accelerating on a free "
+                             f"base, or the whole tumbling (spinning about no principal axis)")
+    return q, v
 
 
-def _newton(model, q, t, data, tol, max_iter):
-    """Newton on the relative rows of r(q, 0, 0, t) under data's lock histories: (q, the largest
-    residual entry at the start, the scale of the loads)."""
+def _carry(model, q, t, data, momentum) -> np.ndarray:
+    """v with the hinge and elastic rates zero and a free base's (v_W, w_B) the rigid motion that
+    carries ``momentum`` ([P; H] about W's origin; the driven hinges' share from t): Pi is linear
+    in v, Pi(q, v) = Pi(q, 0) + dPi/dv v."""
+    v = np.zeros(model.num_velocities)
+    if momentum is None:
+        return v
+    J = model.momentum_jacobian(q, v, 1.0, 0.0, data=data)[:, :6]
+    v[:6] = np.linalg.solve(J, momentum - model.momentum(q, v, t=t, data=data))
+    return v
+
+
+def _newton(model, q, t, data, momentum, tol, max_iter):
+    """Newton on the relative rows of r(q, v, 0, t) under data's lock histories, v carrying the
+    free base's ``momentum`` at each iterate: (q, v, the largest residual entry at the start)."""
     rel = _relative(model)
     nv = model.num_velocities
     zero = np.zeros(nv)
     q = q.copy()
     force = None
     for _ in range(max_iter):
-        r = model.residual(q, zero, zero, t, data=data)
+        v = _carry(model, q, t, data, momentum)
+        r = model.residual(q, v, zero, t, data=data)
         force = np.abs(r).max() if force is None else force
         if len(rel) == 0:
-            return q, force
-        Krr = model.newton_matrix(q, zero, zero, t, 0.0, 0.0, 1.0, data=data)[np.ix_(rel, rel)]
+            return q, v, force
+        Krr = model.newton_matrix(q, v, zero, t, 0.0, 0.0, 1.0, data=data)[np.ix_(rel, rel)]
         try:
             dq_rel = np.linalg.solve(Krr, -r[rel])
             ok = np.all(np.isfinite(dq_rel)) and np.abs(Krr @ dq_rel + r[rel]).max() <= 1e-8 * np.abs(r[rel]).max()
@@ -375,7 +404,7 @@ def _newton(model, q, t, data, tol, max_iter):
         dq[rel] = dq_rel
         q = model.core.retract(q, dq)
         if np.abs(dq_rel).max() <= tol * max(1.0, np.abs(q).max()):
-            return q, force
+            return q, _carry(model, q, t, data, momentum), force
     raise ValueError(f"no equilibrium found near the state at t = {t:g} s: Newton did not converge in "
                      f"{max_iter} iterations (|r| = {np.abs(r[rel]).max():.3g})")
 
@@ -400,8 +429,7 @@ def modes(model, n: int, *, result=None, time: Optional[float] = None, q=None, v
     if equilibrium:
         if not own:
             raise ValueError("equilibrium=True switches the locks' walls itself: leave data=None")
-        v = np.zeros(nv)
-        q = _relative_equilibrium(model, q, t, data, locks, 1e-12, 50)
+        q, v = _relative_equilibrium(model, q, v, t, data, locks, 1e-12, 50)
         a = np.zeros(nv)
     else:
         if own:

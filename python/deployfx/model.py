@@ -260,9 +260,11 @@ class Model:
         where it penetrates by more than 1 nm. ``data`` (a :meth:`make_data` with its lock
         histories set, e.g. the run's own at its end) overrides that.
         ``equilibrium=True`` first moves to the relative equilibrium near the state: every
-        undriven velocity and acceleration zero, the prescribed hinges moving as at ``t`` (a
-        steady spin once their ramp is over), Newton on the residual over the hinge angles and
-        elastic coordinates (a latched panel at rest, a spinning beam's centrifugal stretch).
+        undriven hinge and elastic velocity and acceleration zero, the prescribed hinges moving
+        as at ``t`` (a steady spin once their ramp is over), a free base carrying the state's
+        momentum as a rigid motion (at rest, or spinning), Newton on the residual over the hinge
+        angles and elastic coordinates (a latched panel at rest, a spinning beam's centrifugal
+        stretch, a spinning spacecraft).
 
         M = dr/da, C = dr/dv, K = dr/dq of the residual (prescribed hinges are no unknowns: held);
         eigenvalues of the state-space form, natural frequency |lambda|/2 pi, damping ratio
