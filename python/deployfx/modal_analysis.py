@@ -10,8 +10,8 @@ coordinates; a prescribed hinge has no coordinate, so its angle is held at theta
 
 with G = -[w_B]x on a free base's attitude block (the retraction's kinematics, dpsi' = dw -
 w x dpsi; zero elsewhere). In state space, [[G, I], [-K, -C]] z = lambda [[I, 0], [0, M]] z,
-solved dense through the shifted inverse (``SHIFT``), which gives the low modes to round-off
-however stiff the highest. A mode is an eigenvalue lambda with Im >= 0 (its conjugate is the
+solved through the shifted inverse (``SHIFT``), which gives the low modes to round-off however
+stiff the highest: dense, or on large models Arnoldi for the eigenvalues nearest the shift. A mode is an eigenvalue lambda with Im >= 0 (its conjugate is the
 same mode): natural frequency |lambda| / 2 pi, damping ratio -Re lambda / |lambda|, damped
 frequency |Im lambda| / 2 pi; the shape is the dq part of z, in the velocity coordinates.
 
@@ -438,10 +438,17 @@ def modes(model, n: int, *, result=None, time: Optional[float] = None, q=None, v
         M = model.newton_matrix(q, v, np.zeros(nv), t, 1.0, 0.0, 0.0, data=data)
         a = np.linalg.solve(M, -model.residual(q, v, np.zeros(nv), t, data=data))
     M, C, K = (model.newton_matrix(q, v, a, t, *c, data=data) for c in ((1, 0, 0), (0, 1, 0), (0, 0, 1)))
-    lam, X, rigid = _solve(model, M, C, K, v)
-    keep = np.abs(lam) >= 2 * np.pi * zero_hz
-    rigid += (int(np.count_nonzero(~keep)) + 1) // 2  # a zero mode is a (Jordan) pair of state roots
-    lam, X = _upper(lam[keep], X[:, keep])
+    want = 2 * n + 16  # state roots near the shift (a large model: Arnoldi), doubled until n modes are sure
+    while True:
+        lam, X, rigid, radius = _solve(model, M, C, K, v, want)
+        zero = np.abs(lam) < 2 * np.pi * zero_hz
+        rigid += (int(np.count_nonzero(zero)) + 1) // 2  # a zero mode is a (Jordan) pair of state roots
+        lam, X = _upper(lam[~zero], X[:, ~zero])
+        inside = np.abs(lam) < radius  # every mode below the radius was found
+        if np.count_nonzero(inside) >= n or radius == np.inf:
+            lam, X = lam[inside], X[:, inside]
+            break
+        want *= 2  # at most until the whole spectrum (then radius = inf)
     if n > len(lam):
         raise ValueError(f"n = {n} is out of range: the linearised model has {len(lam)} modes besides its "
                          f"{rigid} rigid-body ones")
@@ -458,13 +465,14 @@ def modes(model, n: int, *, result=None, time: Optional[float] = None, q=None, v
 
 
 
-def _solve(model, M, C, K, v):
-    """The state eigenvalues (both of each conjugate pair) and dq shapes (nv, m) of M x'' + C x' +
-    K x = 0 (with a free base's attitude kinematics), and the number of rigid-body modes left out
-    here."""
+def _solve(model, M, C, K, v, want):
+    """State eigenvalues (both of each conjugate pair), their dq shapes (nv, m), the number of
+    rigid-body modes left out here, and the radius within which every eigenvalue is among them
+    (inf: all were computed). ``want``: how many state eigenvalues near the shift (None: all)."""
     nv = len(M)
     if not model.base_free:
-        return (*_state_space(M, C, K, np.zeros((nv, nv))), 0)
+        lam, X, radius = _state_space(M, C, K, np.zeros((nv, nv)), want)
+        return lam, X, 0, radius
     b, r = np.arange(6), _relative(model)
     norm = max(np.abs(K).max(), np.abs(C).max(), 1e-300)
     couple = max(np.abs(K[b]).max(), np.abs(K[:, b]).max(), np.abs(C[b]).max(), np.abs(C[:, b]).max())
@@ -472,17 +480,17 @@ def _solve(model, M, C, K, v):
         # At rest: zero total momentum, dv_b = -M_bb^-1 M_br dv_r (exact; six rigid modes out).
         Mbb_Mbr = np.linalg.solve(M[np.ix_(b, b)], M[np.ix_(b, r)])
         Mr = M[np.ix_(r, r)] - M[np.ix_(r, b)] @ Mbb_Mbr
-        lam, Xr = _state_space(Mr, C[np.ix_(r, r)], K[np.ix_(r, r)], np.zeros((len(r), len(r))))
+        lam, Xr, radius = _state_space(Mr, C[np.ix_(r, r)], K[np.ix_(r, r)], np.zeros((len(r), len(r))), want)
         X = np.zeros((nv, Xr.shape[1]), dtype=complex)
         X[b], X[r] = -Mbb_Mbr @ Xr, Xr
-        return lam, X, 6
+        return lam, X, 6, radius
     # In motion: the six rigid-body modes are the twelve state eigenvalues nearest zero (exact
     # zeros of translation and of the conserved momenta, the rest of the order of the base's rate).
     G = np.zeros((nv, nv))
     G[3:6, 3:6] = -_skew(v[3:6])  # dpsi' = dw - w x dpsi
-    lam, X = _state_space(M, C, K, G)
+    lam, X, radius = _state_space(M, C, K, G, None if want is None else want + 12)
     keep = np.argsort(np.abs(lam), kind="stable")[12:]
-    return lam[keep], X[:, keep], 6
+    return lam[keep], X[:, keep], 6, radius
 
 
 #: The shift (rad/s) of the inverse iteration: the eigenvalues nearest it come out to round-off
@@ -490,17 +498,36 @@ def _solve(model, M, C, K, v):
 #: six orders of magnitude above its first bending mode); real and negative, so no undamped or
 #: lightly damped mode sits on it, and zero modes stay finite (mu = -1/sigma).
 SHIFT = -1.0
+#: State sizes (2 num_velocities) above which only the eigenvalues nearest the shift are computed,
+#: by Arnoldi (ARPACK) on the same shifted inverse, factored once (dense LU); all of them below.
+_ARNOLDI_ABOVE = 800
 
 
-def _state_space(M, C, K, G):
-    """All 2 n eigenvalues of A z = lambda B z, A = [[G, I], [-K, -C]], B = diag(I, M), and the dq
-    parts of z: from the shifted inverse (A - sigma B)^-1 B z = mu z, lambda = sigma + 1/mu."""
+def _state_space(M, C, K, G, want=None):
+    """Eigenvalues of A z = lambda B z, A = [[G, I], [-K, -C]], B = diag(I, M), the dq parts of z,
+    and the radius within which every eigenvalue is among those returned: from the shifted
+    inverse (A - sigma B)^-1 B z = mu z, lambda = sigma + 1/mu; all 2 n (radius inf), or for a
+    large problem the ``want`` nearest sigma (a disc |lambda - sigma| <= rho holds every
+    eigenvalue with |lambda| <= rho - |sigma|)."""
     n = len(M)
     I, Z = np.eye(n), np.zeros((n, n))
     A = np.block([[G - SHIFT * I, I], [-K, -C - SHIFT * M]])
     B = np.block([[I, Z], [Z, M]])
-    mu, V = np.linalg.eig(np.linalg.solve(A, B))
-    return SHIFT + 1.0 / mu, V[:n]
+    if want is None or 2 * n <= _ARNOLDI_ABOVE or want >= 2 * n - 2:
+        mu, V = np.linalg.eig(np.linalg.solve(A, B))
+        return SHIFT + 1.0 / mu, V[:n], np.inf
+    import scipy.linalg
+    import scipy.sparse.linalg
+
+    lu = scipy.linalg.lu_factor(A, check_finite=False)
+    op = scipy.sparse.linalg.LinearOperator((2 * n, 2 * n), dtype=float,
+                                            matvec=lambda x: scipy.linalg.lu_solve(lu, B @ x, check_finite=False))
+    try:
+        mu, V = scipy.sparse.linalg.eigs(op, k=want, which="LM", ncv=min(2 * n, 3 * want + 20))
+    except scipy.sparse.linalg.ArpackNoConvergence:  # rare: the dense solve instead
+        return _state_space(M, C, K, G, None)
+    lam = SHIFT + 1.0 / mu
+    return lam, V[:n], float(np.abs(lam - SHIFT).max() - abs(SHIFT))
 
 
 def _upper(lam, X):

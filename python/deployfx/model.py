@@ -270,7 +270,8 @@ class Model:
         eigenvalues of the state-space form, natural frequency |lambda|/2 pi, damping ratio
         -Re lambda/|lambda|. A free base at rest is condensed at zero momentum (its six rigid-body
         modes left out); any other mode below ``zero_hz`` (Hz) counts as rigid and is left out
-        (``num_rigid``). Dense: cost (2 num_velocities)^3. Equations: docs/modes.md."""
+        (``num_rigid``). Dense up to 400 velocities, Arnoldi on the shifted inverse above (the
+        paper's full 15 x 10 panel: 2 s). Equations: docs/modes.md."""
         from . import modal_analysis
 
         return modal_analysis.modes(self, n, result=result, time=time, q=q, v=v, t=t, equilibrium=equilibrium,
