@@ -40,6 +40,7 @@ from typing import Any, Optional
 import numpy as np
 
 from ._checks import as_float, as_int
+from .groove import PinGroove
 
 __all__ = ["Modes", "modes", "relative_equilibrium", "SHIFT", "TOUCH"]
 
@@ -178,7 +179,7 @@ def _locks(model, q, result, i, t) -> _Locks:
     supports = {}
     for k, link in enumerate(model.links):
         L, iq = link.lock, model.core.layout(k)["iq_theta"]
-        if L is None or hasattr(L, "theta_lock") or iq < 0:
+        if not isinstance(L, PinGroove) or iq < 0:
             continue
         thetas = [q[iq]] if result is None else np.asarray(result["q"], dtype=float)[: i + 1, iq]
         supports[k] = _groove_support(L, thetas)
@@ -237,7 +238,7 @@ def _walls(model, q, v, locks: _Locks, tol: float = 0.0) -> dict:
             continue  # no lock, or a prescribed hinge's: it acts on no unknown
         theta, rate = q[lay["iq_theta"]], v[lay["iv_theta"]]
         rec = locks.result
-        if hasattr(L, "theta_lock"):
+        if not isinstance(L, PinGroove):  # the stop-and-latch lock (specs.Lock)
             theta_latch = L.theta_lock - L.clearance / L.pin_radius
             held = bool(locks.latched[k]) if locks.latched is not None else bool(theta >= theta_latch)
             if rec is not None:
@@ -288,7 +289,7 @@ def _set_locks(model, data, q, v, walls: dict, locks: _Locks) -> None:
         L = model.links[k].lock
         lay = model.core.layout(k)
         theta, rate = q[lay["iq_theta"]], v[lay["iv_theta"]]
-        if hasattr(L, "theta_lock"):
+        if not isinstance(L, PinGroove):  # the stop-and-latch lock (specs.Lock)
             h = _core.LockHistory()
             h.latched, h.stop_contact, h.latch_contact = state
             h.stop_inside, h.latch_inside = h.stop_contact, h.latch_contact
