@@ -10,12 +10,14 @@
 - Scene files: :func:`save_scene` / :func:`load_scene` (JSON or TOML, :mod:`deployfx.scene_file`).
 - Ply stresses: :class:`Strengths`, :mod:`stress` (ply stresses, failure indices, a run's
   envelope), :mod:`stress_plot`.
+- Modes about a state: ``Model.modes`` returns :class:`Modes` (:mod:`modal_analysis`).
 SI units throughout.
 """
 from .materials import Isotropic, Laminate, Orthotropic, Ply
 from .plate import Plate, ShellModel
 from .strengths import Strengths
-from . import contact, export, integrators, metrics, paper2016, plot, scenes, specs, stress, stress_plot
+from . import contact, export, integrators, metrics, modal_analysis, paper2016, plot, scenes, specs, stress, stress_plot
+from .modal_analysis import Modes
 from .model import Model
 from .results import Result, load
 from .scene import Scene
@@ -25,5 +27,5 @@ from .tradeoff import tradeoff
 
 __all__ = ["Isotropic", "Orthotropic", "Ply", "Laminate", "Plate", "ShellModel", "Scene", "Model", "Fidelity",
            "Strengths", "Result", "load", "save_scene", "load_scene", "contact", "export", "integrators", "metrics",
-           "paper2016", "plot", "scenes", "specs", "stress", "stress_plot", "tradeoff"]
+           "Modes", "modal_analysis", "paper2016", "plot", "scenes", "specs", "stress", "stress_plot", "tradeoff"]
 __version__ = "0.1.0"

@@ -9,6 +9,9 @@ displacement) and cell data ``hinge`` (the hinge whose panel each quad is).
 Positions are in world coordinates W (``frame="world"``: every panel of the model, placed by the
 engine's kinematics, :meth:`deployfx.Model.frames`) or in one panel's own frame C_k
 (``frame="panel"``, ``hinge=k``).
+
+:func:`write_modes_vtk` writes the modes about a state (:class:`deployfx.Modes`): the panels at
+that state, one point-data vector per mode (warp by it in ParaView to see the shape).
 """
 from __future__ import annotations
 
@@ -104,3 +107,41 @@ def write_vtk_series(model: Any, result: Result, directory: Union[str, Path], *,
     (out / f"{name}.pvd").write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
                                      f"  <Collection>\n{entries}\n  </Collection>\n</VTKFile>\n", encoding="utf-8")
     return paths
+
+
+def write_modes_vtk(modes: Any, path: Union[str, Path]) -> Path:
+    """Write ``modes`` (``Model.modes``) as one VTU file at ``path``: every panel of the model at
+    the state linearised about (m, W), point data ``mode_<j>`` (j from 1, ascending frequency) the
+    nodes' motion per unit shape (:meth:`deployfx.Modes.world_shapes`: bodies and elastic
+    together, W axes), cell data ``hinge``; the frequencies (Hz) and damping ratios beside it in
+    ``<stem>_modes.csv``. Returns the VTU path."""
+    try:
+        import meshio
+    except ImportError as e:  # pragma: no cover - meshio is in the test extras
+        raise ImportError("write_modes_vtk needs meshio: pip install meshio") from e
+    from .modal_analysis import Modes
+
+    if not isinstance(modes, Modes):
+        raise TypeError(f"modes must be a deployfx.Modes (Model.modes), got {type(modes).__name__}")
+    m = modes.model
+    panels = [k for k, s in enumerate(m.shells) if s is not None]
+    if not panels:
+        raise ValueError("the model has no panel to export (Scene.set_appendage)")
+    points, quads, owner, shapes, offset = [], [], [], [], 0
+    for k in panels:
+        shell = m.shells[k]
+        points.append(m.world_points(modes.q, k, t=modes.t)[0])
+        shapes.append(modes.world_shapes(k))
+        quads.append(np.asarray(shell.quads, dtype=np.int64) + offset)
+        owner.append(np.full(len(shell.quads), k, dtype=np.int64))
+        offset += shell.nodes.shape[0]
+    shapes = np.concatenate(shapes, axis=1)
+    point_data = {f"mode_{j + 1}": shapes[j] for j in range(len(modes))}
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    meshio.write(path, meshio.Mesh(np.concatenate(points), [("quad", np.concatenate(quads))], point_data=point_data,
+                                   cell_data={"hinge": [np.concatenate(owner)]}))
+    table = np.column_stack([np.arange(1, len(modes) + 1), modes.frequencies_hz, modes.damping_ratios])
+    np.savetxt(path.with_name(f"{path.stem}_modes.csv"), table, delimiter=",", header="mode,frequency_hz,damping_ratio",
+               comments="", fmt=["%d", "%.10g", "%.10g"])
+    return path

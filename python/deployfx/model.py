@@ -245,6 +245,38 @@ class Model:
         """What a run records at (q, v, a, t): the engine's raw per-hinge and system outputs."""
         return self.core.outputs(q, v, a, t, data=data)
 
+    # ---------------------------------------------------------------------------------- modes
+    def modes(self, n: int, *, result: Optional[Result] = None, time: Optional[float] = None, q=None, v=None,
+              t: Optional[float] = None, equilibrium: bool = False, data=None, zero_hz: float = 1e-3):
+        """The lowest ``n`` (>= 1) modes of this model linearised about a state
+        (:class:`deployfx.modal_analysis.Modes`: ``frequencies_hz``, ``damping_ratios``,
+        ``shapes`` in the velocity coordinates, ``mesh_shapes(k)``).
+
+        The state: ``result`` (a run of this model) at the recorded sample nearest ``time`` (s,
+        within the run), or ``q`` (``v`` default 0, ``t`` default 0 s). The locks' histories are
+        the run's at that sample (latched as recorded, the contacts its impact records have in
+        progress, a groove's latch pin followed through the samples); for a given q, latched
+        once past the latch and in contact where the pin penetrates a wall; at an equilibrium,
+        where it penetrates by more than 1 nm. ``data`` (a :meth:`make_data` with its lock
+        histories set, e.g. the run's own at its end) overrides that.
+        ``equilibrium=True`` first moves to the relative equilibrium near the state: every
+        undriven hinge and elastic velocity and acceleration zero, the prescribed hinges moving
+        as at ``t`` (a steady spin once their ramp is over), a free base carrying the state's
+        momentum as a rigid motion (at rest, or spinning), Newton on the residual over the hinge
+        angles and elastic coordinates (a latched panel at rest, a spinning beam's centrifugal
+        stretch, a spinning spacecraft).
+
+        M = dr/da, C = dr/dv, K = dr/dq of the residual (prescribed hinges are no unknowns: held);
+        eigenvalues of the state-space form, natural frequency |lambda|/2 pi, damping ratio
+        -Re lambda/|lambda|. A free base at rest is condensed at zero momentum (its six rigid-body
+        modes left out); any other mode below ``zero_hz`` (Hz) counts as rigid and is left out
+        (``num_rigid``). Dense up to 400 velocities, Arnoldi on the shifted inverse above (the
+        paper's full 15 x 10 panel: 2 s). Equations: docs/modes.md."""
+        from . import modal_analysis
+
+        return modal_analysis.modes(self, n, result=result, time=time, q=q, v=v, t=t, equilibrium=equilibrium,
+                                    data=data, zero_hz=zero_hz)
+
     # ----------------------------------------------------------------------------------- runs
     def simulate(self, t_end: float, dt: float, *, scheme=GeneralizedAlpha(0.8), tolerance: Optional[float] = None,
                  progress: Optional[bool] = None, q0=None, v0=None,
