@@ -137,7 +137,7 @@ READY_SCENES = ("paper2016", "spin-up-beam")
 DEFAULT_DT = {"paper2016": 0.01, "spin-up-beam": 0.002, "file": 0.01}
 #: The options that shape a ready scene, with their defaults: a scene file holds its own.
 _SCENE_OPTIONS = {"model": "nonlinear", "modes": 10, "layup": 2, "nx": paper2016.NX, "ny": paper2016.NY,
-                  "damping": None, "omega_s": 4.0, "t_s": 15.0}
+                  "damping": None, "lock_geometry": "groove", "omega_s": 4.0, "t_s": 15.0}
 
 
 def _check_run(args: argparse.Namespace) -> None:
@@ -180,7 +180,9 @@ def _scenes(args: argparse.Namespace) -> list:
     from . import scene_file, scenes
 
     if args.scene == "paper2016":
-        extra = {} if args.damping is None else {"damping": tuple(args.damping)}
+        extra = {"lock_geometry": args.lock_geometry}
+        if args.damping is not None:
+            extra["damping"] = tuple(args.damping)
         models = ("linear", "nonlinear") if args.model == "both" else (args.model,)
         return [(model if not model.startswith("reduced") else f"{model}-{args.modes}",
                  scenes.paper2016(args.layup, model, nx=args.nx, ny=args.ny, modes=args.modes, **extra))
@@ -309,6 +311,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--damping", type=float, nargs=2, metavar=("ALPHA_M", "BETA_K"),
                    help="paper2016: the appendage's Rayleigh damping, alpha_M (1/s) and beta_K (s); "
                         "default 0.7 0 (7 %% at the first mode); 0 0: the paper's undamped equations")
+    r.add_argument("--lock-geometry", choices=("groove", "stop-latch"), default=_SCENE_OPTIONS["lock_geometry"],
+                   help="paper2016: the lock, the pin riding a groove into its notch (Eq. 45) or "
+                        "stop-and-latch walls in the hinge angle")
     r.add_argument("--omega-s", type=float, default=_SCENE_OPTIONS["omega_s"],
                    help="spin-up-beam: final hub rate, rad/s")
     r.add_argument("--t-s", type=float, default=_SCENE_OPTIONS["t_s"], help="spin-up-beam: spin-up time, s")
