@@ -166,3 +166,42 @@ def test_bad_checkpoint_times_and_resumes(tmp_path):
         dfx.load_checkpoint(tmp_path / "result.npz")
     with pytest.raises(ValueError, match="checkpoint"):
         dfx._core.Checkpoint.from_bytes(ck._core.to_bytes()[:-3])
+
+
+def locked_chain(fidelity):
+    """tests/test_flexible_chain.py's array: a yoke and two panels, hinge 2 riding on panel 1, every
+    hinge locking on stop-and-latch walls (Kelvin-Voigt-Hertz, Coulomb friction)."""
+    Ry = lambda a: np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])  # noqa: E731
+    lam = dfx.Laminate([dfx.Ply(dfx.Isotropic(E=70e9, nu=0.33, rho=2700.0), 3e-3)])
+    plate = dfx.Plate(0.6, 0.4, lam, nx=3, ny=2)
+    nodes = plate.model.nodes.copy()
+    nodes[:, 0] += 0.02
+    nodes[:, 1] -= 0.2
+    panel, root = dfx.ShellModel(nodes, plate.model.quads, lam), plate.fixed_dofs("CFFF")
+    law, friction = dfx.contact.ContactLaw("kelvin-voigt-hertz", K=1e9, n=1.5, D=1e4), dfx.contact.Friction(0.2)
+    spring = dict(c_theta=0.05, fitting_inertia=0.005)
+    lock = dict(pin_radius=0.025, clearance=1e-4, law=law, friction=friction)
+    return (dfx.Scene().set_base(mass=300.0, inertia=50.0)
+            .add_hinge("base", point=(0.4, 0, 0), axis=(0, 1, 0), R_PE0=Ry(-np.pi / 2), tau0=4.0, k_theta=0.3,
+                       **spring)
+            .add_rigid_part(1.5, np.diag([0.002, 0.045, 0.045]), (0.3, 0, 0), body=0)
+            .set_lock(np.pi / 2, **lock)
+            .add_hinge(0, point=(0.6, 0, 0), axis=(0, 1, 0), R_PE0=Ry(np.pi), tau0=1.5, k_theta=0.1, **spring)
+            .set_appendage(panel, root, fidelity=fidelity, modes=4)
+            .set_lock(np.pi, **lock)
+            .add_hinge(1, point=(0.64, 0, 0), axis=(0, -1, 0), R_PE0=Ry(np.pi), tau0=0.5, k_theta=0.1, **spring)
+            .set_appendage(panel, root, fidelity=fidelity, modes=4)
+            .set_lock(np.pi, **lock)
+            .compile())
+
+
+def test_resume_a_locked_chain_through_a_file(tmp_path):
+    m = locked_chain("reduced-linear")
+    times = [round(0.01 * k, 10) for k in range(1, 191)]
+    full = m.simulate(1.9, 0.01, checkpoint_at=times)
+    assert np.array_equal(full.q, m.simulate(1.9, 0.01).q)
+    during = [c for c in full.checkpoints if in_contact(c)]
+    assert during and all(full.summary()["first_lock_time_s"])
+    for c in [full.checkpoints[9], during[0], during[len(during) // 2]]:
+        back = dfx.load_checkpoint(c.save(tmp_path / "chain.ckpt"))
+        assert_same_from(full, m.resume(back, 1.9), c.t)
