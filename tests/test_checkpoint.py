@@ -80,6 +80,8 @@ def test_resume_two_wings_and_through_a_file(tmp_path):
     i = int(np.flatnonzero(full.t == c.t)[0])
     assert np.array_equal(resumed.q, full.q[i:]) and np.array_equal(resumed.t, full.t[i:])
     assert resumed.metadata["resumed_from_s"] == c.t
+    import pickle
+    assert np.array_equal(sc.model.resume(pickle.loads(pickle.dumps(c)), T_END, progress=False).q, resumed.q)
 
 
 def test_resume_to_a_later_end_and_checkpoint_again():

@@ -5,12 +5,11 @@ so that a run resumed from one is bit-identical to the uninterrupted run.
 listed output instant (``result.checkpoints``); ``Model.resume(checkpoint, t_end)`` (or
 ``simulate(..., resume=checkpoint)``) goes on from it with the checkpointed run's dt, scheme and
 tolerance. A checkpoint holds the state (q, v), the integrator's accelerations and its predictor's
-history, the step control's next sizes, Newton's matrix and reuse counter, the lock histories (contact modes, impact trackers) and
-the impact records so far, the energy check's baseline, and the model's fingerprint.
-
-It also holds the integrator's Newton matrix as last built, factorized afresh on resuming, so the
-modified Newton iteration goes on with the very matrix the uninterrupted run reuses; taking
-checkpoints changes nothing in a run.
+history, the step control's next sizes, the lock histories (contact modes, impact trackers) and
+the impact records so far, the energy check's baseline, and the model's fingerprint; and the
+integrator's Newton matrix as last built, factorized afresh on resuming, so that the modified
+Newton iteration goes on with the very matrix the uninterrupted run reuses. Taking checkpoints
+changes nothing in a run.
 
 File format (:meth:`Checkpoint.save`): the line ``deployfx-checkpoint 1``, an 8-byte
 little-endian length and a JSON header (the run's settings, the model's fingerprint), an 8-byte
@@ -156,7 +155,7 @@ def load_checkpoint(path: Union[str, os.PathLike]) -> Checkpoint:
         raise ValueError(f"{path}: {e}") from None
 
 
-def checkpoint_steps(checkpoint_at, t_end: float, dt: float, after: Optional["Checkpoint"] = None) -> list:
+def _steps(checkpoint_at, t_end: float, dt: float, after: Optional["Checkpoint"] = None) -> list:
     """The output steps k (t = k dt, the last one t_end) of the times ``checkpoint_at``; ValueError
     naming the parameter for a time off the output grid or outside (0, t_end] (after the resumed
     checkpoint's time for a resumed run)."""

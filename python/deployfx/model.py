@@ -321,7 +321,7 @@ class Model:
         t_end, dt, tol, scheme = _run_arguments(t_end, dt, scheme, tolerance)
         if resume is not None:
             self._check_resume(resume, dt, scheme, tol, t_end, q0, v0)
-        steps = _checkpoint.checkpoint_steps(checkpoint_at, t_end, dt, resume)
+        steps = _checkpoint._steps(checkpoint_at, t_end, dt, resume)
         stressed = self._stressed_panels() if stresses else []
         if resume is not None:
             q0, v0 = resume.q, resume.v
