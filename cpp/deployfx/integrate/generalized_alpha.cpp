@@ -138,14 +138,15 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     auto factorize_here = [&] {
       // With the momentum rows, their d/dvdot (up to the factor h gamma c): dPi/dv + (h beta /
       // gamma) dPi/dq.
-      matrix_ =
+      BlockMatrix S =
           nc ? sys_.iteration_matrix_and_momentum_jacobian(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c,
                                                            momentum_jacobian_)
              : sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c);
-      if (!solver_.factorize(matrix_)) throw fail("the iteration matrix is singular");
+      if (!solver_.factorize(S)) throw fail("the iteration matrix is singular");
       if (nc) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
       factor_h_ = h;
       refactor = !newton_.reuse_jacobian || full;
+      matrix_ = std::move(S);  // kept for a checkpoint (solver_state)
     };
     bool fresh = refactor;
     if (fresh) factorize_here();
