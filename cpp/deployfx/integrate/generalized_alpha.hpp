@@ -126,13 +126,14 @@ class GeneralizedAlpha {
   // The run's solver state: the factorized iteration matrix and the step size it was built for.
   BorderedSolver solver_;
   double factor_h_ = -1;
-  BlockMatrix matrix_;  // the matrix factorized (kept for a checkpoint)
   // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps).
   int full_steps_ = 0;
   // With conserved momenta: dPi/dvdot of the momentum rows at the last factorization, and the LU
   // of its base columns.
   Eigen::MatrixXd momentum_jacobian_;
   Eigen::PartialPivLU<Eigen::MatrixXd> momentum_lu_;
+  // The matrix last factorized, as built (for a checkpoint: solver_state).
+  BlockMatrix matrix_;
 };
 
 }  // namespace deployfx::integrate
