@@ -207,3 +207,20 @@ def test_resume_a_locked_chain_through_a_file(tmp_path):
     for c in [full.checkpoints[9], during[0], during[len(during) // 2]]:
         back = dfx.load_checkpoint(c.save(tmp_path / "chain.ckpt"))
         assert_same_from(full, m.resume(back, 1.9), c.t)
+
+
+def test_a_resumed_run_keeps_the_energy_checks_baseline():
+    # The divergence check compares the energy with the run's start and its peak kinetic energy:
+    # a resumed run judges against the uninterrupted run's, carried in the checkpoint.
+    from deployfx._run import _energy_growth
+
+    sc = scene("rigid")
+    r = sc.simulate(2.0, DT, checkpoint_at=[1.0, 2.0], progress=False)
+    E = r.kinetic_energy + r.potential_energy
+    c = r.checkpoints[0]
+    assert c.energy0 == E[0] and c.kinetic_peak == r.kinetic_energy[:101].max()
+    again = sc.model.resume(c, 2.0, checkpoint_at=[2.0], progress=False).checkpoints[0]
+    assert again.energy0 == E[0] and again.kinetic_peak == r.checkpoints[1].kinetic_peak
+    raw = {"kinetic_energy": np.array([0.1, 0.1]), "potential_energy": np.array([0.5, 0.5]), "t": np.array([1.0, 1.1])}
+    assert _energy_growth(raw) == ""
+    assert "diverged" in _energy_growth(raw, (0.0, 1.0)) and _energy_growth(raw, (0.5, 1.0)) == ""
