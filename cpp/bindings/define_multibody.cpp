@@ -378,11 +378,31 @@ void define_multibody(py::module_& m) {
           },
           py::arg("q") = py::none(), "A new run's history from configuration q (default: the initial one).");
 
+  py::class_<Checkpoint>(m, "Checkpoint",
+                         "Everything a run carries from one output instant to the next (multibody/simulate.hpp): "
+                         "the integrator's state and history, the step control, the lock histories and impact records.")
+      .def_property_readonly("t", [](const Checkpoint& c) { return c.driver.state.t; }, "The instant, s.")
+      .def_property_readonly("t0", [](const Checkpoint& c) { return c.driver.t0; }, "The run's start, s.")
+      .def_property_readonly("step", [](const Checkpoint& c) { return c.driver.k; },
+                             "The output step it ends (t = t0 + step dt).")
+      .def_property_readonly("q", [](const Checkpoint& c) { return c.driver.state.q; })
+      .def_property_readonly("v", [](const Checkpoint& c) { return c.driver.state.v; })
+      .def_property_readonly("impacts", [](const Checkpoint& c) { return impact_table(c.impacts); },
+                             "The impact records so far (the last may be open).")
+      .def("check", [](const Checkpoint& c, const ModelPtr& model) { check_checkpoint(*model, c); }, py::arg("model"),
+           "ValueError unless it fits the model (state sizes, lock kinds).")
+      .def("to_bytes", [](const Checkpoint& c) { return py::bytes(c.to_bytes()); })
+      .def_static(
+          "from_bytes", [](const py::bytes& b) { return Checkpoint::from_bytes(std::string(b)); }, py::arg("data"))
+      .def(py::pickle([](const Checkpoint& c) { return py::bytes(c.to_bytes()); },
+                      [](const py::bytes& b) { return Checkpoint::from_bytes(std::string(b)); }));
+
   m.def(
       "simulate",
       [](const ModelPtr& model, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0, double t_end, double dt,
          const deployfx::integrate::AlphaParameters& scheme, bool reuse_jacobian, double tolerance,
-         const py::object& progress, const py::object& should_stop, PyData* data) {
+         const py::object& progress, const py::object& should_stop, PyData* data,
+         const std::vector<long>& checkpoint_steps, const Checkpoint* resume) {
         DataArg d(*model, data);
         RunOptions opt;
         opt.t_end = t_end;
@@ -390,11 +410,14 @@ void define_multibody(py::module_& m) {
         opt.scheme = scheme;
         opt.reuse_jacobian = reuse_jacobian;
         opt.tolerance = tolerance;
-        return run_released(*model, *d.data, q0, v0, opt, progress, should_stop);
+        for (long k : checkpoint_steps)
+          if (k < 1) throw std::invalid_argument("checkpoint_steps: output steps must be >= 1, got " + std::to_string(k));
+        return run_released(*model, *d.data, q0, v0, opt, progress, should_stop, checkpoint_steps, resume);
       },
       py::arg("model"), py::arg("q0"), py::arg("v0"), py::kw_only(), py::arg("t_end"), py::arg("dt"),
       py::arg("scheme"), py::arg("reuse_jacobian") = true, py::arg("tolerance") = 0.0, py::arg("progress") = py::none(),
       py::arg("should_stop") = py::none(), py::arg("data") = nullptr,
+      py::arg("checkpoint_steps") = std::vector<long>{}, py::arg("resume") = nullptr,
       "Runs the model from (q0, v0) to t_end (s), output every dt (s), the GIL released. Every 0.2 s of wall time "
       "Ctrl-C is checked (main thread), progress(t, t_end) called and should_stop() asked (any thread); either "
       "stops the run, keeping what was computed. Returns a dict of numpy arrays: t (n,), q (n, nq), v (n, nv), "
@@ -402,5 +425,7 @@ void define_multibody(py::module_& m) {
       "(N m), latched (0/1), strain_energy (J); hinge_force, hinge_moment (n, hinges, 3: N, N m, about the hinge "
       "point in the body's axes); linear_momentum, angular_momentum, base_linear_momentum, base_angular_momentum "
       "(n, 3: N s, N m s about W's origin, W axes); kinetic_energy, potential_energy (n,) J; and the run's counts "
-      "(newton_iterations, substeps, steps, rejected, events, factorizations) and failure ('' when complete).");
+      "(newton_iterations, substeps, steps, rejected, events, factorizations) and failure ('' when complete). "
+      "checkpoint_steps: output steps k (t = k dt) at whose end a Checkpoint is taken (the list 'checkpoints'); "
+      "resume: a Checkpoint to start from instead of (q0, v0), bit-identical to the run that took it.");
 }

@@ -60,7 +60,9 @@ inline pybind11::dict impact_table(const std::vector<deployfx::joint::Impact>& r
 inline pybind11::dict run_released(const deployfx::multibody::Model& model, deployfx::multibody::Data& data,
                                    const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                                    const deployfx::multibody::RunOptions& opt, const pybind11::object& progress,
-                                   const pybind11::object& should_stop) {
+                                   const pybind11::object& should_stop,
+                                   const std::vector<long>& checkpoint_steps = {},
+                                   const deployfx::multibody::Checkpoint* resume = nullptr) {
   namespace py = pybind11;
   namespace mb = deployfx::multibody;
   using run_detail::Series;
@@ -114,9 +116,14 @@ inline pybind11::dict run_released(const deployfx::multibody::Model& model, depl
     return {};
   };
   mb::RunResult run;
+  std::vector<mb::Checkpoint> checkpoints;
+  mb::CheckpointOptions cp;
+  cp.at = checkpoint_steps;
+  cp.resume = resume;
+  cp.sink = [&](mb::Checkpoint c) { checkpoints.push_back(std::move(c)); };
   {
     py::gil_scoped_release release;
-    run = mb::simulate(model, data, q0, v0, opt, record, poll);
+    run = mb::simulate(model, data, q0, v0, opt, record, poll, &cp);
   }
   const auto& tr = run.trajectory;
   const py::ssize_t n = static_cast<py::ssize_t>(t.size());
@@ -150,5 +157,8 @@ inline pybind11::dict run_released(const deployfx::multibody::Model& model, depl
   d["impacts"] = impact_table(data.impacts);
   d["factorizations"] = run.factorizations;
   d["failure"] = tr.failure;
+  py::list points;
+  for (mb::Checkpoint& c : checkpoints) points.append(py::cast(std::move(c)));
+  d["checkpoints"] = points;
   return d;
 }

@@ -29,20 +29,23 @@ def _run_arguments(t_end, dt, scheme, tolerance) -> tuple:
 
 
 def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float, t_end: float,
-                tolerance, wall: float, conservative: bool) -> Result:
+                tolerance, wall: float, conservative: bool, energy_baseline=None, checkpoints=()) -> Result:
     """The :class:`Result` of a run from the engine's ``raw`` dict and the chosen series ``out``,
     with the run's metadata added to ``meta``; raises SimulationError (holding the result) if the
-    run stopped early or, for a ``conservative`` scene, its energy grew (_energy_growth)."""
+    run stopped early or, for a ``conservative`` scene, its energy grew (_energy_growth;
+    ``energy_baseline``: a resumed run's (initial energy, peak kinetic energy so far)).
+    ``checkpoints`` become ``result.checkpoints``."""
     meta.update(dt=dt, t_end=t_end, integrator=_scheme_name(scheme),
                 steps=int(raw["steps"]), substeps=int(raw["substeps"]), rejected=int(raw["rejected"]),
                 events=int(raw["events"]), contact_steps=int(raw["contact_steps"]), tolerance=tolerance,
                 newton_iterations=int(np.sum(raw["newton_iterations"])),
                 factorizations=int(raw["factorizations"]), wall_time_s=wall)
     if conservative:  # report the growth first: it explains a later Newton failure
-        raw["failure"] = "; then ".join(m for m in (_energy_growth(raw), raw["failure"]) if m)
+        raw["failure"] = "; then ".join(m for m in (_energy_growth(raw, energy_baseline), raw["failure"]) if m)
     if raw["failure"]:
         meta["failure"] = raw["failure"]
     result = Result(out, units=units, metadata=meta)
+    result.checkpoints = tuple(checkpoints)
     if raw["failure"]:
         raise SimulationError(f"{raw['failure']}; the result up to t = {raw['t'][-1]:.6g} s is in "
                               f"the exception's .result", result)
@@ -54,15 +57,19 @@ def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float
 ENERGY_GROWTH_LIMIT = 0.1
 
 
-def _energy_growth(raw: dict) -> str:
+def _energy_growth(raw: dict, baseline=None) -> str:
     """A message if the total energy of an undriven run grew by more than ENERGY_GROWTH_LIMIT of
     the peak kinetic energy (a step beyond a conditionally stable scheme's limit, or too large for a
-    stiff contact), else ''."""
+    stiff contact), else ''. ``baseline``: a resumed run's (initial energy, peak kinetic energy
+    before the checkpoint), so that it judges as the uninterrupted run does."""
     E = raw["kinetic_energy"] + raw["potential_energy"]
-    if len(E) < 2:
+    if len(E) < 2 and baseline is None:
         return ""
-    scale = max(raw["kinetic_energy"].max(), np.finfo(float).tiny)
-    excess = (E - E[0]) / scale
+    if not len(E):
+        return ""
+    E0, peak = (E[0], 0.0) if baseline is None else baseline
+    scale = max(raw["kinetic_energy"].max(), peak, np.finfo(float).tiny)
+    excess = (E - E0) / scale
     over = np.flatnonzero(~(excess <= ENERGY_GROWTH_LIMIT))  # NaN counts as growth
     if over.size == 0:
         return ""

@@ -15,12 +15,14 @@ mesh dofs, m and rad, or its Ritz coordinates, kg^0.5 m): ``Model.layout(k)`` sa
 from __future__ import annotations
 
 import datetime
+import functools
 from dataclasses import dataclass, field
 from typing import Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _core, impacts
+from . import checkpoint as _checkpoint
 from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg
 from .integrators import GeneralizedAlpha
 from .plate import ShellModel
@@ -283,7 +285,8 @@ class Model:
                  nodes: Union[None, str, Mapping[int, Sequence[int]]] = None,
                  series: Optional[Callable[["Model", dict], dict]] = None, units: Optional[dict] = None,
                  metadata: Optional[dict] = None, stop: Optional[Callable[[], bool]] = None, data=None,
-                 stresses: bool = False) -> Result:
+                 stresses: bool = False, checkpoint_at: Optional[Sequence[float]] = None,
+                 resume: Optional["Checkpoint"] = None) -> Result:
         """Run to ``t_end`` (s) with output step ``dt`` (s), from rest at the stowed configuration
         unless ``q0``/``v0`` are given (see the module docstring for their layout).
 
@@ -308,16 +311,30 @@ class Model:
         ``.result`` (the series up to the failure) if a step cannot be completed, or if an undriven
         run's total energy grew by more than ``ENERGY_GROWTH_LIMIT`` of its peak kinetic energy
         (numerical divergence: the message gives the time).
+
+        ``checkpoint_at``: output times (s, multiples of ``dt`` or ``t_end``, in (0, t_end]) at
+        which to take a :class:`~deployfx.checkpoint.Checkpoint` (``result.checkpoints``).
+        ``resume``: a checkpoint to go on from (see :meth:`resume`): the result runs from its time
+        to ``t_end``, bit-identical to the run that took it; dt, scheme and tolerance must be that
+        run's, and q0, v0 are not taken.
         """
         t_end, dt, tol, scheme = _run_arguments(t_end, dt, scheme, tolerance)
+        if resume is not None:
+            self._check_resume(resume, dt, scheme, tol, t_end, q0, v0)
+        steps = _checkpoint._steps(checkpoint_at, t_end, dt, resume)
         stressed = self._stressed_panels() if stresses else []
+        if resume is not None:
+            q0, v0 = resume.q, resume.v
         q0 = self.initial_positions() if q0 is None else _state("q0", q0, self.num_positions)
         v0 = np.zeros(self.num_velocities) if v0 is None else _state("v0", v0, self.num_velocities)
         node_sets = self._node_sets(nodes)
         should_stop = None if stop is None else (lambda: bool(stop()))
         raw, wall = _timed_run(lambda progress: _core.simulate(
             self.core, q0, v0, t_end=t_end, dt=dt, scheme=scheme._params(), tolerance=tol, progress=progress,
-            should_stop=should_stop, data=data), t_end, progress)
+            should_stop=should_stop, data=data, checkpoint_steps=steps,
+            resume=None if resume is None else resume._core), t_end, progress)
+        baseline = None if resume is None else (resume.energy0, resume.kinetic_peak)
+        checkpoints = self._checkpoints(raw, dt, scheme, tol, baseline)
         out = self._series(raw)
         for k, idx in node_sets.items():
             out[f"node_displacements_{k}"] = self.node_displacements(raw["q"], k, idx)
@@ -352,7 +369,61 @@ class Model:
                      "H_N_m_s": float(np.max(raw["momentum_scale_H"]))}
             if all(np.isfinite(v) for v in scale.values()):  # not when a divergent run overflowed it
                 meta["momentum_scale"] = scale
-        return _run_result(raw, out, all_units, meta, scheme, dt, t_end, tolerance, wall, self.conservative)
+        if resume is not None:
+            meta["resumed_from_s"] = float(resume.t)
+        return _run_result(raw, out, all_units, meta, scheme, dt, t_end, tolerance, wall, self.conservative,
+                           energy_baseline=baseline, checkpoints=checkpoints)
+
+    def resume(self, checkpoint: "Checkpoint", t_end: float, **options) -> Result:
+        """The run that took ``checkpoint`` (:meth:`simulate` with ``checkpoint_at``), continued
+        from the checkpoint's time to ``t_end`` (s) with that run's dt, scheme and tolerance;
+        bit-identical to the uninterrupted run from there on. ``options``: those of
+        :meth:`simulate` (``checkpoint_at``, ``nodes``, ``series``, ``stop``, ...). ValueError if
+        the checkpoint was taken on another model."""
+        if not isinstance(checkpoint, _checkpoint.Checkpoint):
+            raise TypeError(f"checkpoint must be a deployfx Checkpoint, got {type(checkpoint).__name__}")
+        for name in ("dt", "scheme", "tolerance", "resume"):
+            if name in options:
+                raise TypeError(f"resume() takes no {name!r}: the checkpoint's run sets it")
+        return self.simulate(t_end, checkpoint.dt, scheme=checkpoint.scheme,
+                             tolerance=checkpoint.tolerance or None, resume=checkpoint, **options)
+
+    @functools.cached_property
+    def fingerprint(self) -> str:
+        """SHA-256 identifying the compiled model (deployfx.checkpoint.model_fingerprint)."""
+        return _checkpoint.model_fingerprint(self)
+
+    def _check_resume(self, resume, dt: float, scheme, tol: float, t_end: float, q0, v0) -> None:
+        if not isinstance(resume, _checkpoint.Checkpoint):
+            raise TypeError(f"resume must be a deployfx Checkpoint, got {type(resume).__name__}")
+        if q0 is not None or v0 is not None:
+            raise ValueError("resume: q0 and v0 are the checkpoint's; do not pass them")
+        if resume.model_id != self.fingerprint:
+            raise ValueError("resume: the checkpoint was taken on another model (its fingerprint differs)")
+        if dt != resume.dt:
+            raise ValueError(f"resume: dt = {dt:g} s, but the checkpoint's run had dt = {resume.dt:g} s")
+        if _checkpoint._scheme_spec(scheme) != _checkpoint._scheme_spec(resume.scheme):
+            raise ValueError(f"resume: scheme = {scheme!r}, but the checkpoint's run had {resume.scheme!r}")
+        if tol != resume.tolerance:
+            raise ValueError(f"resume: tolerance = {tol or None}, but the checkpoint's run had "
+                             f"{resume.tolerance or None}")
+        if not t_end >= resume.t:
+            raise ValueError(f"t_end = {t_end:g} s is out of range: must be >= the checkpoint's t = {resume.t:g} s")
+        resume._core.check(self.core)
+
+    def _checkpoints(self, raw: dict, dt: float, scheme, tol: float, baseline) -> tuple:
+        """The run's checkpoints with their settings and the energy check's baseline up to each."""
+        if not raw["checkpoints"]:
+            return ()
+        E = raw["kinetic_energy"] + raw["potential_energy"]
+        out = []
+        for c in raw["checkpoints"]:
+            i = int(np.flatnonzero(raw["t"] == c.t)[-1])
+            peak = float(np.max(raw["kinetic_energy"][: i + 1]))
+            e0, peak = (float(E[0]), peak) if baseline is None else (baseline[0], max(baseline[1], peak))
+            out.append(_checkpoint.Checkpoint(c, model_id=self.fingerprint, dt=dt, scheme=scheme, tolerance=tol,
+                                              energy0=e0, kinetic_peak=peak))
+        return tuple(out)
 
     def _stressed_panels(self) -> list:
         """The hinges whose deforming panel has strengths; ValueError if there is none."""

@@ -112,6 +112,10 @@ class Result:
     ``ValueError``, wrong types ``TypeError``, each naming the series, unit or metadata key.
     """
 
+    #: The run's :class:`~deployfx.checkpoint.Checkpoint` objects (``simulate(checkpoint_at=...)``);
+    #: not saved with the result (each has its own ``save``).
+    checkpoints: tuple = ()
+
     def __init__(self, series: Mapping[str, Any], units: Optional[Mapping[str, str]] = None,
                  metadata: Optional[Mapping[str, Any]] = None):
         if not isinstance(series, Mapping):

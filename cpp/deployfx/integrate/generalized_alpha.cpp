@@ -60,6 +60,17 @@ void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd
   v.head(nc) += J.partialPivLu().solve(Pi - sys_.momentum(q, v, t));
 }
 
+void GeneralizedAlpha::restore(const Solver& state) {
+  full_steps_ = state.full_steps;
+  factor_h_ = -1;
+  if (!(state.h > 0)) return;
+  matrix_ = state.S;
+  if (!solver_.factorize(matrix_)) throw StepFailure("a checkpoint's iteration matrix is singular");
+  momentum_jacobian_ = state.momentum_jacobian;
+  if (const int nc = sys_.num_conserved()) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
+  factor_h_ = state.h;
+}
+
 int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess) {
   const double am = p_.alpha_m, af = p_.alpha_f, beta = p_.beta, gamma = p_.gamma;
   const double t1 = s.t + h;
@@ -127,7 +138,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     auto factorize_here = [&] {
       // With the momentum rows, their d/dvdot (up to the factor h gamma c): dPi/dv + (h beta /
       // gamma) dPi/dq.
-      const BlockMatrix S =
+      BlockMatrix S =
           nc ? sys_.iteration_matrix_and_momentum_jacobian(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c,
                                                            momentum_jacobian_)
              : sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c);
@@ -135,6 +146,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       if (nc) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
       factor_h_ = h;
       refactor = !newton_.reuse_jacobian || full;
+      matrix_ = std::move(S);  // kept for a checkpoint (solver_state)
     };
     bool fresh = refactor;
     if (fresh) factorize_here();

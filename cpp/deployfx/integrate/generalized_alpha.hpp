@@ -104,6 +104,19 @@ class GeneralizedAlpha {
   const AlphaParameters& parameters() const { return p_; }
   /// Numeric factorizations of the iteration matrix so far.
   long factorizations() const { return solver_.factorizations(); }
+  /// The solver state a run carries between steps, for a checkpoint: the iteration matrix last
+  /// factorized as it was built (S, its step size h, -1: none; with conserved momenta the
+  /// momentum rows' Jacobian) and the reuse policy's counter.
+  struct Solver {
+    BlockMatrix S;
+    double h = -1;
+    Eigen::MatrixXd momentum_jacobian;
+    int full_steps = 0;
+  };
+  Solver solver_state() const { return {matrix_, factor_h_, momentum_jacobian_, full_steps_}; }
+  /// Resumes from solver_state(): S factorized afresh, so the run goes on bit for bit as the one
+  /// that saved it (a factorization is a function of S). Throws StepFailure if S is singular.
+  void restore(const Solver& state);
 
  private:
   void polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v, double t, const Eigen::VectorXd& Pi);
@@ -119,6 +132,8 @@ class GeneralizedAlpha {
   // of its base columns.
   Eigen::MatrixXd momentum_jacobian_;
   Eigen::PartialPivLU<Eigen::MatrixXd> momentum_lu_;
+  // The matrix last factorized, as built (for a checkpoint: solver_state).
+  BlockMatrix matrix_;
 };
 
 }  // namespace deployfx::integrate

@@ -1,5 +1,6 @@
 #include "deployfx/integrate/trajectory.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -63,7 +64,10 @@ Trajectory run_fixed_step(GeneralizedAlpha& integrator, AlphaState s, double t_e
 }
 
 Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double h,
-               const StepControl& control, const Observer& observe, const Poll& poll) {
+               const StepControl& control, const Observer& observe, const Poll& poll,
+               const Checkpoints* checkpoints) {
+  const DriverState* resume = checkpoints ? checkpoints->resume : nullptr;
+  if (resume) s = resume->state;
   require_positive("dt", h, "(s)");
   if (!(control.tolerance >= 0 && std::isfinite(control.tolerance)))
     throw_out_of_range("tolerance", control.tolerance, ">= 0 (m or rad; 0: fixed steps)");
@@ -73,7 +77,8 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
   Trajectory tr;
   // Output steps are counted in a long and their times kept: beyond 1e9 of them the run cannot be
   // stored (8 GB of times alone), and t_end / dt may overflow the count.
-  const double outputs = std::ceil((t_end - s.t) / h - 1e-9);
+  const double t0 = resume ? resume->t0 : s.t;
+  const double outputs = std::ceil((t_end - t0) / h - 1e-9);
   if (!(outputs <= 1e9)) {
     std::ostringstream e;
     e << "t_end = " << t_end << " s and dt = " << h << " s ask for " << outputs
@@ -90,16 +95,19 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
       tr.failure = "stopped by the caller at t = " + std::to_string(s.t) + " s";
     }
   };
-  sys.accept(s.q, s.v, s.t);
+  if (!resume) sys.accept(s.q, s.v, s.t);  // a resumed history holds this instant already
   record();
   if (stopped) return tr;
-  const double t0 = s.t;
   const bool adaptive = control.tolerance > 0;
   const auto& p = integrator.parameters();
   const double snap = std::max(std::min(kMinEventStep, 1e-3 * h), 1e-12 * std::max(1.0, std::abs(t_end)));
   double h_try = adaptive ? std::min(h, control.initial_step > 0 ? control.initial_step : 0.1 * h) : h;
   double h_contact = h;  // the next step while a contact is resolved
-  for (long k = 1; k <= steps; ++k) {
+  if (resume) {
+    h_try = resume->h_try, h_contact = resume->h_contact;
+    integrator.restore(resume->solver);
+  }
+  for (long k = resume ? resume->k + 1 : 1; k <= steps; ++k) {
     const double target = k == steps ? t_end : t0 + k * h;  // no round-off drift in output times
     int iterations = 0;
     try {
@@ -242,6 +250,10 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
     tr.newton_iterations.push_back(iterations);
     record();
     if (stopped) return tr;
+    if (checkpoints && checkpoints->sink &&
+        std::find(checkpoints->at.begin(), checkpoints->at.end(), k) != checkpoints->at.end()) {
+      checkpoints->sink(DriverState{s, t0, k, h_try, h_contact, integrator.solver_state()});
+    }
   }
   return tr;
 }

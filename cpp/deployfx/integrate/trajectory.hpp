@@ -52,10 +52,32 @@ using Observer = std::function<bool(const AlphaState&)>;
 /// then ends with the states recorded so far and `failure` saying why and when.
 using Poll = std::function<std::string(double)>;
 
+/// What the driver and the integrator carry from one output instant to the next (the system's
+/// history aside): with them a run resumes bit for bit.
+struct DriverState {
+  AlphaState state;           ///< at the output instant t0 + k dt (the predictor's history included)
+  double t0 = 0;              ///< s, the run's start: output times are t0 + k dt
+  long k = 0;                 ///< the output step just completed
+  double h_try = 0;           ///< s, the error control's next step
+  double h_contact = 0;       ///< s, the next step while a contact is resolved
+  GeneralizedAlpha::Solver solver;  ///< the integrator's Newton matrix and reuse counter
+};
+
+/// Checkpoints of a run: `sink` is called at the end of each output step listed in `at` (after
+/// the state was recorded and the system's history updated); taking one changes nothing in the
+/// run. `resume`: start from that driver state (the system's history restored by the caller)
+/// instead of `state`; its instant is recorded, not accepted again.
+struct Checkpoints {
+  std::vector<long> at;
+  std::function<void(const DriverState&)> sink;
+  const DriverState* resume = nullptr;
+};
+
 /// Output every dt = h (and at located events), with the step control `control`.
 /// Throws std::invalid_argument for h <= 0, t_end < t0 or a negative tolerance.
 Trajectory run(GeneralizedAlpha& integrator, AlphaState state, double t_end, double h,
-               const StepControl& control, const Observer& observe = {}, const Poll& poll = {});
+               const StepControl& control, const Observer& observe = {}, const Poll& poll = {},
+               const Checkpoints* checkpoints = nullptr);
 /// run() with fixed steps.
 Trajectory run_fixed_step(GeneralizedAlpha& integrator, AlphaState state, double t_end, double h,
                           const Observer& observe = {});

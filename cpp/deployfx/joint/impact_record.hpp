@@ -33,6 +33,24 @@ class ImpactTracker {
   void observe(int hinge, int wall, bool in_contact, double t, double F, double delta, double delta_dot,
                std::vector<Impact>& records);
 
+  /// Everything the tracker carries between steps (for a checkpoint).
+  struct Snapshot {
+    bool open = false;
+    std::size_t index = 0;
+    double t[3] = {0, 0, 0}, F[3] = {0, 0, 0}, x[3] = {0, 0, 0};
+    int n = 0;
+  };
+  Snapshot snapshot() const {
+    Snapshot s;
+    s.open = open_, s.index = index_, s.n = n_;
+    for (int i = 0; i < 3; ++i) s.t[i] = t_[i], s.F[i] = F_[i], s.x[i] = x_[i];
+    return s;
+  }
+  void restore(const Snapshot& s) {
+    open_ = s.open, index_ = s.index, n_ = s.n;
+    for (int i = 0; i < 3; ++i) t_[i] = s.t[i], F_[i] = s.F[i], x_[i] = s.x[i];
+  }
+
  private:
   bool open_ = false;
   std::size_t index_ = 0;  // of the open record
