@@ -31,18 +31,40 @@ Eigen::SparseMatrix<double> principal_submatrix(const BlockMatrix& S, const std:
   return out;
 }
 
+namespace {
+// A block this small, or at least this dense, is factorized densely: below it a dense LU costs
+// less than the sparse one's analysis and supernodes.
+constexpr int kDenseSize = 128;
+constexpr double kDenseFill = 0.25;
+}  // namespace
+
 void SlavedBlock::set(const BlockMatrix& S, const std::vector<int>& idx) {
   block_ = principal_submatrix(S, idx);
+  const double m = static_cast<double>(block_.rows());
+  dense_ = block_.rows() <= kDenseSize || static_cast<double>(block_.nonZeros()) >= kDenseFill * m * m;
   state_ = State::kSet;
 }
 
 bool SlavedBlock::solve(const Eigen::VectorXd& r, Eigen::VectorXd* d) {
   if (state_ == State::kSet) {
-    lu_.compute(block_);
-    state_ = lu_.info() == Eigen::Success ? State::kFactorized : State::kSingular;
+    if (dense_) {
+      dense_block_ = Eigen::MatrixXd(block_);
+      dense_lu_.compute(dense_block_);
+      // PartialPivLU does not report singularity: a zero pivot shows as a non-finite solve below.
+      state_ = State::kFactorized;
+    } else {
+      const std::vector<int> outer(block_.outerIndexPtr(), block_.outerIndexPtr() + block_.outerSize() + 1);
+      const std::vector<int> inner(block_.innerIndexPtr(), block_.innerIndexPtr() + block_.nonZeros());
+      if (outer != analyzed_outer_ || inner != analyzed_inner_) {
+        lu_.analyzePattern(block_);
+        analyzed_outer_ = outer, analyzed_inner_ = inner;
+      }
+      lu_.factorize(block_);
+      state_ = lu_.info() == Eigen::Success ? State::kFactorized : State::kSingular;
+    }
   }
   if (state_ != State::kFactorized) return false;
-  Eigen::VectorXd x = lu_.solve(r);
+  Eigen::VectorXd x = dense_ ? Eigen::VectorXd(dense_lu_.solve(r)) : Eigen::VectorXd(lu_.solve(r));
   if (!x.allFinite()) return false;
   *d = std::move(x);
   return true;
