@@ -1,7 +1,8 @@
 """Stability at the extremes (issue 6): contact stiffness 1e3..1e12 N/m^1.5, time steps 1e-5..0.05 s,
 plate length/thickness up to 1e4, spin-up far above the first bending frequency, body/appendage
-mass ratio 1e-2..1e6, and 1000 s undamped. Each test checks physics against a closed form, an
-independent reduced model or a conservation law, with the tolerance and source stated.
+mass ratio 1e-2..1e6, 1000 s undamped, and (issue 29) the undamped reduced-nonlinear paper scene
+over 30 s. Each test checks physics against a closed form, an independent reduced model or a
+conservation law, with the tolerance and source stated.
 
 The reference for the deployment scenes is the rigid panel's exact reduction. Base (body + yoke,
 centre of mass c_B) and appendage (panel + hinge fitting, centre of mass s(theta) from the hinge
