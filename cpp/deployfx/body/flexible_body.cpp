@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "deployfx/fem/constrained_solve.hpp"
+#include "deployfx/fem/parity.hpp"
 #include "deployfx/math/check.hpp"
 
 namespace deployfx::body {
@@ -22,6 +23,10 @@ Fidelity fidelity_from_name(const std::string& value, const std::string& name) {
 }
 
 namespace {
+
+// Bending-in-plane entries of K and M below this (relative, fem::parity_decoupled) are round-off,
+// as in fem/ritz_basis.cpp: the paper's symmetric lay-ups leave B at 5e-17 of sqrt(|A| |D|).
+constexpr double kParityTolerance = 1e-12;
 
 // A deforming panel's clamped dofs must hold it to its frame: its stiffness on the free dofs
 // must be definite (the shell's drilling penalty makes it so for any proper support). A panel
@@ -81,6 +86,15 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     M_vals_ = block_->aligned(ffi_.M());
     K_vals_ = block_->aligned(K_free_);
     align_Mij();
+    // A basis split by parity (fem/ritz_basis.hpp) has every vector exactly in-plane or bending.
+    std::vector<int> in_plane;
+    bool split = green_;
+    for (int i = 0; split && i < r; ++i) {
+      const fem::Parity p = fem::vector_parity(basis_.Phi.col(i));
+      split = p != fem::Parity::kMixed;
+      if (p == fem::Parity::kInPlane) in_plane.push_back(i);
+    }
+    if (split) in_plane_ = std::move(in_plane);
   } else if (flexible()) {
     free_ = fem::free_dofs(model.num_dofs(), spec_.fixed_dofs);
     K_free_ = fem::restrict(model.stiffness(), free_);
@@ -91,6 +105,10 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     K_vals_ = block_->aligned(model.stiffness());
     if (green_) tangent_slots_ = block_->block_slots(model.element_slots());
     align_Mij();
+    if (green_ && fem::parity_decoupled(K_free_, free_, kParityTolerance) &&
+        fem::parity_decoupled(M_free_, free_, kParityTolerance))
+      for (int k = 0; k < static_cast<int>(free_.size()); ++k)
+        if (fem::dof_parity(free_[k]) == fem::Parity::kInPlane) in_plane_.push_back(k);
   }
 }
 

@@ -100,6 +100,12 @@ class FlexibleBody {
                          Workspace* ws = nullptr) const;
   /// The same as a dense (num_elastic() x num_elastic()) matrix.
   Eigen::MatrixXd elastic_tangent(const Eigen::VectorXd& q_el, double c_v, double c_q) const;
+  /// Green strain on a basis or mesh that splits by parity (fem/parity.hpp: a flat laminate
+  /// without membrane-bending coupling): the elastic coordinates that move the mid-surface in its
+  /// plane (in-plane Ritz vectors, or the u, v, theta_z dofs); empty otherwise. They are stiff
+  /// (the paper's panel: omega dt = 14-670 for its in-plane Ritz vectors at dt = 10 ms) and
+  /// follow the bending quadratically: integrate::SecondOrderSystem::slaved_velocities.
+  const std::vector<int>& in_plane_coordinates() const { return in_plane_; }
   /// Strain energy at q_el (d = full(q_el)), J.
   double strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d, const Workspace* ws = nullptr) const;
 
@@ -121,6 +127,7 @@ class FlexibleBody {
   fem::RitzBasis basis_;
   std::optional<fem::ModalInternalForce> modal_;  // reduced fidelities
   std::vector<int> free_;
+  std::vector<int> in_plane_;  // in_plane_coordinates()
   Eigen::SparseMatrix<double> K_free_, M_free_;
   std::optional<fem::FreeBlock> block_;
   Eigen::VectorXd M_vals_, K_vals_;

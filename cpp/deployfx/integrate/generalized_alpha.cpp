@@ -8,6 +8,10 @@
 #include "deployfx/math/check.hpp"
 
 namespace deployfx::integrate {
+namespace {
+// Newton sweeps on a system's slaved rows at a step's predictor (GeneralizedAlpha::relax_slaved).
+constexpr int kSlavedSweeps = 3;
+}  // namespace
 
 AlphaParameters AlphaParameters::newmark(double beta, double gamma) {
   require_open_interval("beta", beta, 0.0, 0.5 + 1e-12);
@@ -29,7 +33,7 @@ AlphaParameters AlphaParameters::generalized_alpha(double rho) {
 
 GeneralizedAlpha::GeneralizedAlpha(SecondOrderSystem& system, AlphaParameters p,
                                    NewtonOptions newton)
-    : sys_(system), p_(p), newton_(newton) {}
+    : sys_(system), p_(p), newton_(newton), slaved_(system.slaved_velocities()) {}
 
 AlphaState GeneralizedAlpha::initial_state(double t0, const Eigen::VectorXd& q0,
                                            const Eigen::VectorXd& v0) {
@@ -69,6 +73,9 @@ void GeneralizedAlpha::restore(const Solver& state) {
   momentum_jacobian_ = state.momentum_jacobian;
   if (const int nc = sys_.num_conserved()) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
   factor_h_ = state.h;
+  // After an accepted step the slaved block is the last factorization's (step(): a block formed at
+  // a predictor for another step size is replaced when that step refactorizes).
+  if (!slaved_.empty()) slaved_block_.set(matrix_, slaved_), slaved_h_ = state.h;
 }
 
 int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess) {
@@ -82,11 +89,11 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   auto fail = [&](const std::string& why) {
     std::ostringstream e;
     e << "Newton failed at t = " << t1 << " s (step " << h << " s): " << why;
-    factor_h_ = -1;  // the next attempt starts from a fresh matrix
+    factor_h_ = slaved_h_ = -1;  // the next attempt starts from a fresh matrix
     return StepFailure(e.str());
   };
   auto not_converged = [&] {
-    factor_h_ = -1;
+    factor_h_ = slaved_h_ = -1;
     if (newton_.reuse_jacobian && solver_.dense()) full_steps_ = newton_.full_newton_steps;  // the retry: full Newton
     std::ostringstream e;
     e << "Newton did not converge at t = " << t1 << " s (step " << h << " s) in "
@@ -113,6 +120,8 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   // into the appendage's rows, amplified by the inverse of the Schur complement (a light base).
   const int n = static_cast<int>(vdot.size());
   Eigen::VectorXd w = vdot.head(nc);
+  // Newton starts from a membrane state consistent with the predicted bending (relax_slaved).
+  Eigen::VectorXd r_start = relax_slaved(s, h, vdot, w);
   // Convergence is judged against the accelerations at the step's start: an iterate that has run
   // away cannot make its own increments look small.
   const double scale = std::max(1.0, s.vdot.lpNorm<Eigen::Infinity>());
@@ -131,7 +140,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const Eigen::VectorXd v1 = s.v + h * ((1 - gamma) * s.a + gamma * a1);
     Eigen::VectorXd ve = vdot;  // the accelerations in the equations of motion
     ve.head(nc) = w;
-    const Eigen::VectorXd r = sys_.residual(q1, v1, ve, t1);
+    const Eigen::VectorXd r = it == 1 && r_start.size() ? std::move(r_start) : sys_.residual(q1, v1, ve, t1);
     // Eq. 42-43, integrated: the momentum rows, scaled like accelerations.
     const Eigen::VectorXd rm = nc ? Eigen::VectorXd((sys_.momentum(q1, v1, t1) - Pi_n) / (h * gamma * c)) : Eigen::VectorXd();
     if (!r.allFinite() || !rm.allFinite()) throw fail("the residual is not finite");
@@ -143,6 +152,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
                                                            momentum_jacobian_)
              : sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c);
       if (!solver_.factorize(S)) throw fail("the iteration matrix is singular");
+      if (!slaved_.empty()) slaved_block_.set(S, slaved_), slaved_h_ = h;
       if (nc) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
       factor_h_ = h;
       refactor = !newton_.reuse_jacobian || full;
@@ -226,6 +236,57 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     previous = size;
   }
   throw not_converged();
+}
+
+// A consistent predictor. A Green-strain panel's in-plane coordinates are stiff (omega h = 14-670
+// at h = 10 ms on the paper's panel) and slaved to its bending through the quadratic membrane
+// strain. Extrapolated with the rest, they leave a membrane strain inconsistent with the
+// predicted bending: their rows then dominate the residual (1e2-1e4 times the others'), and
+// Newton's linearization of that misfit makes its first increments up to 200 times the step's
+// final correction, bouncing for 10-20 iterations and at times landing on another root of the
+// step equation (docs/research/undamped-stability.md). Newton sweeps on the slaved rows alone,
+// the other coordinates held, bring them to the membrane equilibrium of the predicted bending
+// (nonlinear elimination: Lanzkron, Rose & Wilkes, SIAM J. Sci. Comput. 17, 1996, 945-960),
+// until their residual no longer exceeds the other rows' (at most kSlavedSweeps; a sweep that does
+// not reduce it is undone); Newton on all rows starts from there. The sweeps' matrix is the slaved
+// block of the last factorization for this step size (nearly constant: M, K and small in-plane
+// geometric terms), or one formed here when the step size changed. The converged step solves the
+// same equations: only Newton's start moves.
+Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Eigen::VectorXd& vdot,
+                                               const Eigen::VectorXd& w) {
+  if (slaved_.empty()) return {};
+  const double am = p_.alpha_m, af = p_.alpha_f, beta = p_.beta, gamma = p_.gamma;
+  const double t1 = s.t + h, c = (1 - af) / (1 - am);
+  const int nc = sys_.num_conserved();
+  Eigen::VectorXd r, r_before, vdot_before;  // the residual at vdot; before the last sweep
+  double slaved_before = std::numeric_limits<double>::infinity();
+  for (int sweep = 0;; ++sweep) {
+    // The state vdot gives at t_{n+1} (as in step()), and its residual.
+    const Eigen::VectorXd a1 = ((1 - af) * vdot + af * s.vdot - am * s.a) / (1 - am);
+    const Eigen::VectorXd q1 = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a1));
+    const Eigen::VectorXd v1 = s.v + h * ((1 - gamma) * s.a + gamma * a1);
+    Eigen::VectorXd ve = vdot;
+    ve.head(nc) = w;
+    r = sys_.residual(q1, v1, ve, t1);
+    Eigen::VectorXd rs(slaved_.size());  // the slaved rows; r's other rows' largest entry below
+    for (std::size_t i = 0; i < slaved_.size(); ++i) rs(i) = r(slaved_[i]), r(slaved_[i]) = 0.0;
+    const double others = r.lpNorm<Eigen::Infinity>();
+    for (std::size_t i = 0; i < slaved_.size(); ++i) r(slaved_[i]) = rs(i);
+    const double slaved = rs.lpNorm<Eigen::Infinity>();
+    if (!(slaved < slaved_before)) {  // the last sweep did not reduce the slaved rows: undo it
+      if (sweep > 0) vdot = std::move(vdot_before), r = std::move(r_before);
+      return r;
+    }
+    if (sweep == kSlavedSweeps || slaved <= others) return r;
+    if (slaved_block_.empty() || !(std::abs(slaved_h_ - h) <= newton_.step_reuse * h)) {
+      slaved_block_.set(sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c), slaved_);
+      slaved_h_ = h;
+    }
+    Eigen::VectorXd d;
+    if (!slaved_block_.solve(rs, &d)) return r;
+    vdot_before = vdot, r_before = std::move(r), slaved_before = slaved;
+    for (std::size_t i = 0; i < slaved_.size(); ++i) vdot(slaved_[i]) -= d(i);
+  }
 }
 
 }  // namespace deployfx::integrate

@@ -14,6 +14,7 @@
 
 #include "deployfx/integrate/bordered_solver.hpp"
 #include "deployfx/integrate/second_order_system.hpp"
+#include "deployfx/integrate/slaved_block.hpp"
 
 namespace deployfx::integrate {
 
@@ -120,12 +121,21 @@ class GeneralizedAlpha {
 
  private:
   void polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v, double t, const Eigen::VectorXd& Pi);
+  /// The consistent predictor (step()): relaxes the slaved coordinates' accelerations in vdot
+  /// at the predictor; returns the residual at the relaxed predictor (empty: none evaluated).
+  Eigen::VectorXd relax_slaved(const AlphaState& s, double h, Eigen::VectorXd& vdot, const Eigen::VectorXd& w);
   SecondOrderSystem& sys_;
   AlphaParameters p_;
   NewtonOptions newton_;
   // The run's solver state: the factorized iteration matrix and the step size it was built for.
   BorderedSolver solver_;
   double factor_h_ = -1;
+  // The system's slaved coordinates (SecondOrderSystem::slaved_velocities), and their block of the
+  // iteration matrix with the step size it is for: the last factorization's (set with it), or one
+  // formed at a predictor when the step size changed (it is then refactorized there anyway).
+  std::vector<int> slaved_;
+  SlavedBlock slaved_block_;
+  double slaved_h_ = -1;
   // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps).
   int full_steps_ = 0;
   // With conserved momenta: dPi/dvdot of the momentum rows at the last factorization, and the LU

@@ -6,6 +6,7 @@
 // evaluations may update the run's own data (memos, contact history; multibody::TreeSystem holds
 // an immutable model and a run's Data), so they are not const.
 #include <Eigen/Core>
+#include <vector>
 
 #include "deployfx/integrate/block_matrix.hpp"
 
@@ -37,6 +38,12 @@ class SecondOrderSystem {
                                    const Eigen::VectorXd& /*dv*/) {
     return 1.0;
   }
+
+  /// Velocity indices of stiff coordinates slaved to the others (default none): the in-plane
+  /// coordinates of a Green-strain panel, which follow its bending quadratically and
+  /// quasi-statically. The integrator relaxes their rows at each step's predictor, so that Newton
+  /// starts from a membrane state consistent with the predicted bending (GeneralizedAlpha::step).
+  virtual std::vector<int> slaved_velocities() const { return {}; }
 
   // Conserved momenta. A free-floating system's first rows are the balance of its total momentum,
   // d(Pi)/dt = 0 with no external load (You et al. 2016, Eq. 36-43). An integrator may replace

@@ -55,4 +55,11 @@ double TreeSystem::newton_step_limit(const Eigen::VectorXd& q, const Eigen::Vect
   return friction_step_limit(m_, d_, q, v, dv);
 }
 
+std::vector<int> TreeSystem::slaved_velocities() const {
+  std::vector<int> out;
+  for (const int k : m_.panels())
+    for (const int i : m_.body(k).panel->in_plane_coordinates()) out.push_back(m_.body(k).iv_el + i);
+  return out;
+}
+
 }  // namespace deployfx::multibody

@@ -33,6 +33,9 @@ class TreeSystem final : public integrate::SecondOrderSystem {
   void accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t, const Eigen::VectorXd& margin) override;
   StepBounds step_bounds() override;
   double newton_step_limit(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& dv) override;
+  /// Every Green-strain panel's in-plane coordinates (FlexibleBody::in_plane_coordinates), at its
+  /// elastic block's place in the velocity ordering (Body::iv_el).
+  std::vector<int> slaved_velocities() const override;
 
  private:
   const Model& m_;
