@@ -112,6 +112,18 @@ class Modes:
 
 
 # ------------------------------------------------------------------------------------- state
+
+def _given_state(model, q, v) -> tuple[np.ndarray, np.ndarray]:
+    """A given state's (q, v) as float arrays of the model's sizes (v None: at rest), or
+    ValueError naming q or v."""
+    q = np.asarray(q, dtype=float)
+    if q.shape != (model.num_positions,) or not np.all(np.isfinite(q)):
+        raise ValueError(f"q must be {model.num_positions} finite numbers, got shape {q.shape}")
+    v = np.zeros(model.num_velocities) if v is None else np.asarray(v, dtype=float)
+    if v.shape != (model.num_velocities,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"v must be {model.num_velocities} finite numbers, got shape {v.shape}")
+    return q, v
+
 def _state_from(model, result, time, q, v, t):
     """(q, v, t, sample index or None) from a result at ``time`` or from the given q, v, t."""
     if result is not None:
@@ -140,12 +152,7 @@ def _state_from(model, result, time, q, v, t):
         raise ValueError("time is given without result=: pass result= (a run of this model), or t=")
     if q is None:
         raise ValueError("give result= and time=, or the state q= (v=, t=)")
-    q = np.asarray(q, dtype=float)
-    if q.shape != (model.num_positions,) or not np.all(np.isfinite(q)):
-        raise ValueError(f"q must be {model.num_positions} finite numbers, got shape {q.shape}")
-    v = np.zeros(model.num_velocities) if v is None else np.asarray(v, dtype=float)
-    if v.shape != (model.num_velocities,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"v must be {model.num_velocities} finite numbers, got shape {v.shape}")
+    q, v = _given_state(model, q, v)
     t = 0.0 if t is None else as_float("t", t)
     if not np.isfinite(t):
         raise ValueError(f"t = {t!r} is out of range: must be finite (s)")
@@ -323,12 +330,7 @@ def relative_equilibrium(model, q, t: float = 0.0, *, v=None, tol: float = 1e-12
     in contact at the start, then again with those the pin penetrates by more than ``TOUCH`` at
     its root, until the set holds. A free base must then be unloaded (its rows of r vanish at zero
     acceleration: at rest, or spinning steadily about a principal axis), else ValueError."""
-    q = np.asarray(q, dtype=float)
-    if q.shape != (model.num_positions,) or not np.all(np.isfinite(q)):
-        raise ValueError(f"q must be {model.num_positions} finite numbers, got shape {q.shape}")
-    v = np.zeros(model.num_velocities) if v is None else np.asarray(v, dtype=float)
-    if v.shape != (model.num_velocities,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"v must be {model.num_velocities} finite numbers, got shape {v.shape}")
+    q, v = _given_state(model, q, v)
     t = as_float("t", t)
     return _relative_equilibrium(model, q, v, t, model.make_data(), _locks(model, q, None, 0, t), tol, max_iter)
 
