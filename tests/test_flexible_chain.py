@@ -24,6 +24,7 @@ from deployfx import paper2016 as paper
 from deployfx.groove import PinGroove
 from deployfx.integrators import GeneralizedAlpha
 
+import chain_scenes  # tests/: scenes shared by tests
 from test_hinge_chain import Ry, check_jacobians, random_state, rod
 
 Y = np.array([0.0, 1.0, 0.0])
@@ -357,27 +358,7 @@ def test_locks_with_friction_on_a_flexible_chain(free):
     stored energy only makes it dip), and the run goes through every lock's first impact. Before
     joint::friction_step_limit, exact Newton cycled across the friction's stick band here (hinge
     2's effective inertia is 1500 x below its own) and the runs stopped at t = 0.78 / 1.09 s."""
-    lam = dfx.Laminate([dfx.Ply(dfx.Isotropic(E=70e9, nu=0.33, rho=2700.0), 3e-3)])
-    plate = dfx.Plate(0.6, 0.4, lam, nx=4, ny=2)
-    nodes = plate.model.nodes.copy()
-    nodes[:, 0] += 0.02
-    nodes[:, 1] -= 0.2
-    panel, root = dfx.ShellModel(nodes, plate.model.quads, lam), plate.fixed_dofs("CFFF")
-    law, friction = dfx.contact.ContactLaw("kelvin-voigt-hertz", K=1e9, n=1.5, D=1e4), dfx.contact.Friction(0.2)
-    spring = dict(c_theta=0.05, fitting_inertia=0.005)
-    lock = dict(pin_radius=0.025, clearance=1e-4, law=law, friction=friction)
-    array = (dfx.Scene().set_base(mass=300.0, inertia=50.0, free=free)
-             .add_hinge("base", point=(0.4, 0, 0), axis=(0, 1, 0), R_PE0=Ry(-np.pi / 2), tau0=4.0, k_theta=0.3,
-                        **spring)
-             .add_rigid_part(1.5, np.diag([0.002, 0.045, 0.045]), (0.3, 0, 0), body=0)
-             .set_lock(np.pi / 2, **lock)
-             .add_hinge(0, point=(0.6, 0, 0), axis=(0, 1, 0), R_PE0=Ry(np.pi), tau0=1.5, k_theta=0.1, **spring)
-             .set_appendage(panel, root, fidelity="reduced-linear", modes=4)
-             .set_lock(np.pi, **lock)
-             .add_hinge(1, point=(0.64, 0, 0), axis=(0, -1, 0), R_PE0=Ry(np.pi), tau0=0.5, k_theta=0.1, **spring)
-             .set_appendage(panel, root, fidelity="reduced-linear", modes=4)
-             .set_lock(np.pi, **lock)
-             .compile())
+    array = chain_scenes.locked_array("reduced-linear", nx=4, free=free)
     r = array.simulate(1.9, 0.01)
     locks = r.summary()["first_lock_time_s"]
     assert all(t is not None for t in locks), locks  # every hinge reached its lock
