@@ -9,6 +9,7 @@
 
 #include "deployfx/integrate/generalized_alpha.hpp"
 #include "deployfx/integrate/trajectory.hpp"
+#include "deployfx/multibody/checkpoint.hpp"
 #include "deployfx/multibody/data.hpp"
 
 namespace deployfx::multibody {
@@ -26,20 +27,6 @@ struct RunResult {
   long factorizations = 0;  ///< of the Newton matrix
 };
 
-/// Everything a run carries from one output instant to the next: the driver's state (the
-/// integrator's state and predictor history, the step control's sizes, the output count) and the
-/// run's history in Data (lock histories with their impact trackers, the impact records, the last
-/// accepted configuration). A run resumed from it is bit-identical to the one that wrote it.
-struct Checkpoint {
-  integrate::DriverState driver;
-  std::vector<joint::LockState> locks;
-  std::vector<joint::Impact> impacts;
-  Eigen::VectorXd accepted_q;
-  /// A versioned binary image; from_bytes throws std::invalid_argument for a malformed one.
-  std::string to_bytes() const;
-  static Checkpoint from_bytes(const std::string& bytes);
-};
-
 /// Checkpoints of a run (integrate::Checkpoints): at the end of output steps `at`, into `sink`;
 /// `resume`: start from that checkpoint instead of (q0, v0) (its history replaces d's).
 struct CheckpointOptions {
@@ -47,9 +34,6 @@ struct CheckpointOptions {
   std::function<void(Checkpoint)> sink;
   const Checkpoint* resume = nullptr;
 };
-
-/// Throws std::invalid_argument unless `c` fits m (state sizes, the locks' kinds).
-void check_checkpoint(const Model& m, const Checkpoint& c);
 
 /// Runs from (q0, v0) with d's lock histories reset; `record(state)` at each recorded time
 /// (after the history was updated), `poll(t)` after every step (see integrate::run). Throws
