@@ -103,13 +103,14 @@ def test_summary_json_carries_the_run_settings(tmp_path, capsys):
     for model, s in summary.items():
         settings = s["settings"]
         assert list(settings) == ["scene", "parameters", "mesh", "fidelity", "dt", "t_end", "scheme", "tolerance",
-                                  "deployfx_version", "run_started_utc", "command"]
+                                  "newton_tolerance", "deployfx_version", "run_started_utc", "command"]
         assert settings["scene"] == "paper2016" and settings["fidelity"] == [model]
         assert settings["mesh"] == [{"nodes": 6, "quads": 2}]  # 2 x 1 quads, 3 x 2 nodes
         p = settings["parameters"]
         assert (p["layup"], p["nx"], p["ny"], p["model"], p["damping"]) == (2, 2, 1, model, [0.7, 0.0])
         assert p["contact"]["n"] == 1.5 and p["friction"]["mu"] == 0.25
         assert (settings["dt"], settings["t_end"], settings["tolerance"]) == (0.01, 0.1, None)
+        assert settings["newton_tolerance"] == 1e-10  # the engine's default
         assert settings["scheme"] == "GeneralizedAlpha(rho_inf=0.8)"
         assert settings["deployfx_version"] == dfx.__version__
         started = datetime.datetime.fromisoformat(settings["run_started_utc"])

@@ -397,11 +397,14 @@ void define_multibody(py::module_& m) {
       .def(py::pickle([](const Checkpoint& c) { return py::bytes(c.to_bytes()); },
                       [](const py::bytes& b) { return Checkpoint::from_bytes(std::string(b)); }));
 
+  m.attr("NEWTON_TOLERANCE_DEFAULT") = deployfx::integrate::NewtonOptions{}.tolerance;
+  m.attr("NEWTON_TOLERANCE_RANGE") = py::make_tuple(deployfx::multibody::kMinNewtonTolerance,
+                                                    deployfx::multibody::kMaxNewtonTolerance);
   m.def(
       "simulate",
       [](const ModelPtr& model, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0, double t_end, double dt,
          const deployfx::integrate::AlphaParameters& scheme, bool reuse_jacobian, double tolerance,
-         const py::object& progress, const py::object& should_stop, PyData* data,
+         double newton_tolerance, const py::object& progress, const py::object& should_stop, PyData* data,
          const std::vector<long>& checkpoint_steps, const Checkpoint* resume) {
         DataArg d(*model, data);
         RunOptions opt;
@@ -410,15 +413,18 @@ void define_multibody(py::module_& m) {
         opt.scheme = scheme;
         opt.reuse_jacobian = reuse_jacobian;
         opt.tolerance = tolerance;
+        opt.newton_tolerance = newton_tolerance;
         for (long k : checkpoint_steps)
           if (k < 1) throw std::invalid_argument("checkpoint_steps: output steps must be >= 1, got " + std::to_string(k));
         return run_released(*model, *d.data, q0, v0, opt, progress, should_stop, checkpoint_steps, resume);
       },
       py::arg("model"), py::arg("q0"), py::arg("v0"), py::kw_only(), py::arg("t_end"), py::arg("dt"),
-      py::arg("scheme"), py::arg("reuse_jacobian") = true, py::arg("tolerance") = 0.0, py::arg("progress") = py::none(),
+      py::arg("scheme"), py::arg("reuse_jacobian") = true, py::arg("tolerance") = 0.0,
+      py::arg("newton_tolerance") = deployfx::integrate::NewtonOptions{}.tolerance, py::arg("progress") = py::none(),
       py::arg("should_stop") = py::none(), py::arg("data") = nullptr,
       py::arg("checkpoint_steps") = std::vector<long>{}, py::arg("resume") = nullptr,
-      "Runs the model from (q0, v0) to t_end (s), output every dt (s), the GIL released. Every 0.2 s of wall time "
+      "Runs the model from (q0, v0) to t_end (s), output every dt (s), the GIL released; newton_tolerance: Newton's "
+      "convergence test on the accelerations' relative error estimate, in [1e-14, 1e-4]. Every 0.2 s of wall time "
       "Ctrl-C is checked (main thread), progress(t, t_end) called and should_stop() asked (any thread); either "
       "stops the run, keeping what was computed. Returns a dict of numpy arrays: t (n,), q (n, nq), v (n, nv), "
       "per hinge (n, hinges): theta (rad), theta_rate (rad/s), spring_torque (N m), lock_force (N), lock_torque "

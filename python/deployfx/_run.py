@@ -8,9 +8,23 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from . import _core
 from ._checks import as_float
 from .integrators import HHT, Newmark, SimulationError, _check_scheme
 from .results import Result
+
+
+def newton_tolerance_arg(newton_tolerance) -> float:
+    """Newton's tolerance for a run (None: the engine's default) checked against the engine's
+    range; ValueError or TypeError naming it."""
+    if newton_tolerance is None:
+        return float(_core.NEWTON_TOLERANCE_DEFAULT)
+    tol = as_float("newton_tolerance", newton_tolerance)
+    lo, hi = _core.NEWTON_TOLERANCE_RANGE
+    if not lo <= tol <= hi:
+        raise ValueError(f"newton_tolerance = {tol} is out of range: must be in [{lo:g}, {hi:g}] "
+                         f"(relative error of the accelerations)")
+    return tol
 
 
 def _run_arguments(t_end, dt, scheme, tolerance) -> tuple:
@@ -29,7 +43,8 @@ def _run_arguments(t_end, dt, scheme, tolerance) -> tuple:
 
 
 def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float, t_end: float,
-                tolerance, wall: float, conservative: bool, energy_baseline=None, checkpoints=()) -> Result:
+                tolerance, newton_tolerance: float, wall: float, conservative: bool, energy_baseline=None,
+                checkpoints=()) -> Result:
     """The :class:`Result` of a run from the engine's ``raw`` dict and the chosen series ``out``,
     with the run's metadata added to ``meta``; raises SimulationError (holding the result) if the
     run stopped early or, for a ``conservative`` scene, its energy grew (_energy_growth;
@@ -38,6 +53,7 @@ def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float
     meta.update(dt=dt, t_end=t_end, integrator=_scheme_name(scheme),
                 steps=int(raw["steps"]), substeps=int(raw["substeps"]), rejected=int(raw["rejected"]),
                 events=int(raw["events"]), contact_steps=int(raw["contact_steps"]), tolerance=tolerance,
+                newton_tolerance=newton_tolerance,
                 newton_iterations=int(np.sum(raw["newton_iterations"])),
                 factorizations=int(raw["factorizations"]), wall_time_s=wall)
     if conservative:  # report the growth first: it explains a later Newton failure

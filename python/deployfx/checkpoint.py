@@ -65,15 +65,17 @@ def model_fingerprint(model) -> str:
 class Checkpoint:
     """A run at one output instant (see the module docstring). ``t`` (s), ``q``, ``v`` (the
     state), ``impacts`` (the impact records so far, the last possibly still open), ``dt``,
-    ``scheme``, ``tolerance`` (the run's settings, which a resumed run takes)."""
+    ``scheme``, ``tolerance``, ``newton_tolerance`` (the run's settings, which a resumed run
+    takes)."""
 
     def __init__(self, core: "_core.Checkpoint", *, model_id: str, dt: float, scheme, tolerance: float,
-                 energy0: float, kinetic_peak: float):
+                 newton_tolerance: float, energy0: float, kinetic_peak: float):
         self._core = core
         self.model_id = model_id
         self.dt = float(dt)
         self.scheme = scheme
         self.tolerance = float(tolerance)
+        self.newton_tolerance = float(newton_tolerance)
         self.energy0 = float(energy0)
         self.kinetic_peak = float(kinetic_peak)
 
@@ -102,7 +104,7 @@ class Checkpoint:
 
     def _header(self) -> dict:
         return {"model": self.model_id, "t": self.t, "dt": self.dt, "scheme": _scheme_spec(self.scheme),
-                "tolerance": self.tolerance, "energy0": self.energy0, "kinetic_peak": self.kinetic_peak}
+                "tolerance": self.tolerance, "newton_tolerance": self.newton_tolerance, "energy0": self.energy0, "kinetic_peak": self.kinetic_peak}
 
     def to_bytes(self) -> bytes:
         """The file's content (see :meth:`save`)."""
@@ -132,6 +134,8 @@ class Checkpoint:
             raise ValueError("the checkpoint is truncated or corrupt (its lengths do not add up)")
         return cls(_core.Checkpoint.from_bytes(body), model_id=header["model"], dt=header["dt"],
                    scheme=_scheme_from(header["scheme"]), tolerance=header["tolerance"],
+                   # files of 0.x before the knob: every run had the engine's default
+                   newton_tolerance=header.get("newton_tolerance", _core.NEWTON_TOLERANCE_DEFAULT),
                    energy0=header["energy0"], kinetic_peak=header["kinetic_peak"])
 
     def save(self, path: Union[str, os.PathLike]) -> Path:

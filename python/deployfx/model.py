@@ -23,7 +23,7 @@ import numpy as np
 
 from . import _core, impacts
 from . import checkpoint as _checkpoint
-from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg
+from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg, newton_tolerance_arg
 from .integrators import GeneralizedAlpha
 from .plate import ShellModel
 from .groove import PinGroove
@@ -281,7 +281,7 @@ class Model:
 
     # ----------------------------------------------------------------------------------- runs
     def simulate(self, t_end: float, dt: float, *, scheme=GeneralizedAlpha(0.8), tolerance: Optional[float] = None,
-                 progress: Optional[bool] = None, q0=None, v0=None,
+                 newton_tolerance: Optional[float] = None, progress: Optional[bool] = None, q0=None, v0=None,
                  nodes: Union[None, str, Mapping[int, Sequence[int]]] = None,
                  series: Optional[Callable[["Model", dict], dict]] = None, units: Optional[dict] = None,
                  metadata: Optional[dict] = None, stop: Optional[Callable[[], bool]] = None, data=None,
@@ -294,6 +294,10 @@ class Model:
         Newmark. ``tolerance`` (m or rad, absolute): error-controlled steps of at most ``dt``,
         keeping the local displacement error estimate h^2 |beta - 1/6| |a_n+1 - a_n| below it;
         None: fixed steps of ``dt``. Contact switches are located in time either way.
+        ``newton_tolerance``: Newton's convergence test, the estimated error of each step's
+        accelerations relative to their size (at least 1), in [1e-14, 1e-4]; None: the engine's
+        1e-10. A trade knob: a looser test saves iterations and moves the outputs (README,
+        "Newton's tolerance"; ``bench/newton_tolerance.py``).
         ``progress``: a tqdm bar (True), none (False), or by default one only when standard error
         is a terminal. Ctrl-C (main thread) or ``stop()`` returning True (any thread: e.g. a
         ``threading.Event``'s ``is_set``) stops the run within 0.2 s with a SimulationError holding
@@ -315,12 +319,13 @@ class Model:
         ``checkpoint_at``: output times (s, multiples of ``dt`` or ``t_end``, in (0, t_end]) at
         which to take a :class:`~deployfx.checkpoint.Checkpoint` (``result.checkpoints``).
         ``resume``: a checkpoint to go on from (see :meth:`resume`): the result runs from its time
-        to ``t_end``, bit-identical to the run that took it; dt, scheme and tolerance must be that
-        run's, and q0, v0 are not taken.
+        to ``t_end``, bit-identical to the run that took it; dt, scheme, tolerance and
+        newton_tolerance must be that run's, and q0, v0 are not taken.
         """
         t_end, dt, tol, scheme = _run_arguments(t_end, dt, scheme, tolerance)
+        newton_tol = newton_tolerance_arg(newton_tolerance)
         if resume is not None:
-            self._check_resume(resume, dt, scheme, tol, t_end, q0, v0)
+            self._check_resume(resume, dt, scheme, tol, newton_tol, t_end, q0, v0)
         steps = _checkpoint._steps(checkpoint_at, t_end, dt, resume)
         stressed = self._stressed_panels() if stresses else []
         if resume is not None:
@@ -330,11 +335,12 @@ class Model:
         node_sets = self._node_sets(nodes)
         should_stop = None if stop is None else (lambda: bool(stop()))
         raw, wall = _timed_run(lambda progress: _core.simulate(
-            self.core, q0, v0, t_end=t_end, dt=dt, scheme=scheme._params(), tolerance=tol, progress=progress,
+            self.core, q0, v0, t_end=t_end, dt=dt, scheme=scheme._params(), tolerance=tol,
+            newton_tolerance=newton_tol, progress=progress,
             should_stop=should_stop, data=data, checkpoint_steps=steps,
             resume=None if resume is None else resume._core), t_end, progress)
         baseline = None if resume is None else (resume.energy0, resume.kinetic_peak)
-        checkpoints = self._checkpoints(raw, dt, scheme, tol, baseline)
+        checkpoints = self._checkpoints(raw, dt, scheme, tol, newton_tol, baseline)
         out = self._series(raw)
         for k, idx in node_sets.items():
             out[f"node_displacements_{k}"] = self.node_displacements(raw["q"], k, idx)
@@ -371,29 +377,31 @@ class Model:
                 meta["momentum_scale"] = scale
         if resume is not None:
             meta["resumed_from_s"] = float(resume.t)
-        return _run_result(raw, out, all_units, meta, scheme, dt, t_end, tolerance, wall, self.conservative,
+        return _run_result(raw, out, all_units, meta, scheme, dt, t_end, tolerance, newton_tol, wall, self.conservative,
                            energy_baseline=baseline, checkpoints=checkpoints)
 
     def resume(self, checkpoint: "Checkpoint", t_end: float, **options) -> Result:
         """The run that took ``checkpoint`` (:meth:`simulate` with ``checkpoint_at``), continued
-        from the checkpoint's time to ``t_end`` (s) with that run's dt, scheme and tolerance;
+        from the checkpoint's time to ``t_end`` (s) with that run's dt, scheme and tolerances;
         bit-identical to the uninterrupted run from there on. ``options``: those of
         :meth:`simulate` (``checkpoint_at``, ``nodes``, ``series``, ``stop``, ...). ValueError if
         the checkpoint was taken on another model."""
         if not isinstance(checkpoint, _checkpoint.Checkpoint):
             raise TypeError(f"checkpoint must be a deployfx Checkpoint, got {type(checkpoint).__name__}")
-        for name in ("dt", "scheme", "tolerance", "resume"):
+        for name in ("dt", "scheme", "tolerance", "newton_tolerance", "resume"):
             if name in options:
                 raise TypeError(f"resume() takes no {name!r}: the checkpoint's run sets it")
         return self.simulate(t_end, checkpoint.dt, scheme=checkpoint.scheme,
-                             tolerance=checkpoint.tolerance or None, resume=checkpoint, **options)
+                             tolerance=checkpoint.tolerance or None,
+                             newton_tolerance=checkpoint.newton_tolerance, resume=checkpoint, **options)
 
     @functools.cached_property
     def fingerprint(self) -> str:
         """SHA-256 identifying the compiled model (deployfx.checkpoint.model_fingerprint)."""
         return _checkpoint.model_fingerprint(self)
 
-    def _check_resume(self, resume, dt: float, scheme, tol: float, t_end: float, q0, v0) -> None:
+    def _check_resume(self, resume, dt: float, scheme, tol: float, newton_tol: float, t_end: float, q0,
+                      v0) -> None:
         if not isinstance(resume, _checkpoint.Checkpoint):
             raise TypeError(f"resume must be a deployfx Checkpoint, got {type(resume).__name__}")
         if q0 is not None or v0 is not None:
@@ -407,11 +415,14 @@ class Model:
         if tol != resume.tolerance:
             raise ValueError(f"resume: tolerance = {tol or None}, but the checkpoint's run had "
                              f"{resume.tolerance or None}")
+        if newton_tol != resume.newton_tolerance:
+            raise ValueError(f"resume: newton_tolerance = {newton_tol:g}, but the checkpoint's run had "
+                             f"{resume.newton_tolerance:g}")
         if not t_end >= resume.t:
             raise ValueError(f"t_end = {t_end:g} s is out of range: must be >= the checkpoint's t = {resume.t:g} s")
         resume._core.check(self.core)
 
-    def _checkpoints(self, raw: dict, dt: float, scheme, tol: float, baseline) -> tuple:
+    def _checkpoints(self, raw: dict, dt: float, scheme, tol: float, newton_tol: float, baseline) -> tuple:
         """The run's checkpoints with their settings and the energy check's baseline up to each."""
         if not raw["checkpoints"]:
             return ()
@@ -422,7 +433,7 @@ class Model:
             peak = float(np.max(raw["kinetic_energy"][: i + 1]))
             e0, peak = (float(E[0]), peak) if baseline is None else (baseline[0], max(baseline[1], peak))
             out.append(_checkpoint.Checkpoint(c, model_id=self.fingerprint, dt=dt, scheme=scheme, tolerance=tol,
-                                              energy0=e0, kinetic_peak=peak))
+                                              newton_tolerance=newton_tol, energy0=e0, kinetic_peak=peak))
         return tuple(out)
 
     def _stressed_panels(self) -> list:

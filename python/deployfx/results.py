@@ -418,13 +418,15 @@ class Result:
         ``scene`` (a ready scene's name or a scene file), ``parameters`` (the scene's
         parameters), ``mesh`` and ``fidelity`` (per hinge: the panel's ``{"nodes", "quads"}`` and
         fidelity, None without a panel), ``dt`` (s), ``t_end`` (s), ``scheme``, ``tolerance``
-        (None: fixed steps of ``dt``), ``deployfx_version`` and ``run_started_utc``."""
+        (None: fixed steps of ``dt``), ``newton_tolerance``, ``deployfx_version`` and
+        ``run_started_utc``."""
         m = self._metadata
         hinges = m.get("hinges") if isinstance(m.get("hinges"), list) else None
         per = (lambda key: None if hinges is None else [h.get(key) if isinstance(h, dict) else None for h in hinges])
         return copy.deepcopy({"scene": m.get("scene"), "parameters": m.get("parameters"), "mesh": per("mesh"),
                               "fidelity": per("fidelity"), "dt": m.get("dt"), "t_end": m.get("t_end"),
                               "scheme": m.get("integrator"), "tolerance": m.get("tolerance"),
+                              "newton_tolerance": m.get("newton_tolerance"),
                               "deployfx_version": m.get("deployfx_version"),
                               "run_started_utc": m.get("run_started_utc")})
 

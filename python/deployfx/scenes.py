@@ -238,15 +238,16 @@ class SpinUpBeamScene:
 
     def simulate(self, t_end: float = 30.0, dt: float = 0.01, *, scheme=GeneralizedAlpha(0.9),
                  divergence_limit: Optional[float] = None, tolerance: Optional[float] = None,
-                 checkpoint_at=None, resume=None) -> Result:
+                 newton_tolerance: Optional[float] = None, checkpoint_at=None, resume=None) -> Result:
         """Spin-up from rest. A run whose tip leaves ``divergence_limit`` (m, default L/2: far
         beyond small-strain validity) is divergent: :class:`~deployfx.integrators.SimulationError`
         says when, with the series up to then in ``.result`` (the linear model above
-        omega_1 = 3.80 rad/s). ``checkpoint_at``, ``resume``: see :meth:`deployfx.Model.simulate`."""
+        omega_1 = 3.80 rad/s). ``tolerance``, ``newton_tolerance``, ``checkpoint_at``, ``resume``: see
+        :meth:`deployfx.Model.simulate`."""
         limit = 0.5 * self.length if divergence_limit is None else float(divergence_limit)
         try:
-            result = self.model.simulate(t_end, dt, scheme=scheme, tolerance=tolerance, checkpoint_at=checkpoint_at,
-                                         resume=resume)
+            result = self.model.simulate(t_end, dt, scheme=scheme, tolerance=tolerance,
+                                         newton_tolerance=newton_tolerance, checkpoint_at=checkpoint_at, resume=resume)
         except SimulationError as e:
             result, failure = e.result, str(e)
         else:

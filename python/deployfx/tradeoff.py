@@ -37,6 +37,7 @@ from . import impacts
 from . import paper2016 as _paper
 from . import scenes
 from ._checks import as_float, as_int
+from ._run import newton_tolerance_arg
 from .integrators import HHT, GeneralizedAlpha, Newmark, Scheme, SimulationError, _check_scheme
 from .results import Result
 from .scene import FIDELITIES
@@ -48,7 +49,7 @@ ERRORS = {"lock_time_error_s": "|first lock time error| (s)",
 
 #: Columns of a row, in order. Units in the names: s, N, m; ``*_rel_error`` are fractions.
 COLUMNS = ("label", "model", "modes", "modal_derivatives", "basis_size", "mesh", "coordinates",
-           "dt_s", "tolerance", "integrator", "setup_s", "wall_time_s", "steps", "substeps",
+           "dt_s", "tolerance", "newton_tolerance", "integrator", "setup_s", "wall_time_s", "steps", "substeps",
            "newton_iterations", "ms_per_step", "t_reached_s", "lock_time_s", "peak_lock_force_N",
            "max_node_E_deflection_m",
            "lock_time_error_s", "peak_lock_force_rel_error", "node_E_rms_rel_error",
@@ -85,6 +86,8 @@ class Case:
       for the other fidelities;
     - ``tolerance`` (m or rad): error-controlled steps of at most ``dt``
       (:meth:`deployfx.scene.Model.simulate`); None: fixed steps;
+    - ``newton_tolerance``: Newton's convergence test on the accelerations' relative error
+      (:meth:`deployfx.scene.Model.simulate`); None: the engine's default, 1e-10;
     - ``label``: the row's name (None: made from the fields, see :attr:`name`).
     """
 
@@ -96,6 +99,7 @@ class Case:
     modes: Optional[int] = None
     derivative_modes: Optional[int] = None
     tolerance: Optional[float] = None
+    newton_tolerance: Optional[float] = None
     label: Optional[str] = None
 
     def __post_init__(self):
@@ -127,6 +131,8 @@ class Case:
             if not (math.isfinite(tol) and tol > 0):
                 raise ValueError(f"tolerance = {tol} is out of range: must be > 0 (m or rad) "
                                  "or None")
+        if self.newton_tolerance is not None:
+            newton_tolerance_arg(self.newton_tolerance)
         if self.label is not None and not isinstance(self.label, str):
             raise TypeError(f"label must be a string or None, got {type(self.label).__name__}")
 
@@ -138,7 +144,8 @@ class Case:
     @property
     def name(self) -> str:
         """The label, or one made from the fields, e.g. ``reduced-nonlinear(10) 15x10 dt=0.01
-        GA(0.8)``, or ``reduced-nonlinear(10, md=3) ...`` with ``derivative_modes = 3``."""
+        GA(0.8)``, or ``reduced-nonlinear(10, md=3) ...`` with ``derivative_modes = 3``, ending
+        in `` newton=1e-08`` with a Newton tolerance."""
         if self.label is not None:
             return self.label
         size = [] if self.modes is None else [str(self.modes)]
@@ -147,7 +154,8 @@ class Case:
         model = f"{self.model}({', '.join(size)})" if size else self.model
         mesh = "" if self.model == "rigid" else f" {self.mesh}"
         step = f"dt<={self.dt:g} tol={self.tolerance:g}" if self.tolerance else f"dt={self.dt:g}"
-        return f"{model}{mesh} {step} {scheme_label(self.scheme)}"
+        newton = "" if self.newton_tolerance is None else f" newton={self.newton_tolerance:g}"
+        return f"{model}{mesh} {step} {scheme_label(self.scheme)}{newton}"
 
 
 CaseLike = Union[Case, Mapping[str, Any]]
@@ -270,7 +278,7 @@ def _run(case: Case, t_end: float, layup: int, repeat: int,
     for _ in range(repeat):
         try:
             r = scene.simulate(t_end, case.dt, scheme=case.scheme, tolerance=case.tolerance,
-                               progress=False)
+                               newton_tolerance=case.newton_tolerance, progress=False)
         except SimulationError as e:
             r, failure = e.result, str(e)
         walls.append(r.metadata["wall_time_s"])
@@ -321,13 +329,14 @@ def _row(case: Optional[Case], result: Optional[Result], setup: float, wall: flo
     if case is not None:
         row.update(label=("reference: " if is_reference else "") + case.name, model=case.model,
                    modes=case.modes, mesh=case.mesh, dt_s=case.dt, tolerance=case.tolerance,
-                   integrator=scheme_label(case.scheme))
+                   newton_tolerance=meta.get("newton_tolerance", case.newton_tolerance), integrator=scheme_label(case.scheme))
         if case.model.startswith("reduced") and case.modes is None:
             row["modes"] = hinge.get("modes")
     else:  # a given reference Result
         row.update(label="reference (given result)", model=meta.get("model"),
                    modes=hinge.get("modes"), mesh=meta.get("mesh"), dt_s=meta.get("dt"),
-                   tolerance=meta.get("tolerance"), integrator=meta.get("integrator"))
+                   tolerance=meta.get("tolerance"), newton_tolerance=meta.get("newton_tolerance"),
+                   integrator=meta.get("integrator"))
     row.update(basis_size=hinge.get("basis_size"), modal_derivatives=hinge.get("modal_derivatives"),
                setup_s=setup, wall_time_s=wall,
                steps=meta.get("steps"), substeps=meta.get("substeps"),

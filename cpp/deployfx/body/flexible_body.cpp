@@ -135,9 +135,14 @@ Eigen::VectorXd FlexibleBody::mass_combination(double c_a, const Eigen::Matrix3d
 }
 
 Eigen::VectorXd FlexibleBody::full(const Eigen::VectorXd& d_free) const {
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(ffi_.num_dofs());
-  for (int k = 0; k < num_elastic(); ++k) d(free_[k]) = d_free(k);
+  Eigen::VectorXd d;
+  full(d_free, d);
   return d;
+}
+
+void FlexibleBody::full(const Eigen::VectorXd& d_free, Eigen::VectorXd& d) const {
+  d.setZero(ffi_.num_dofs());  // no allocation when d has the size already
+  for (int k = 0; k < num_elastic(); ++k) d(free_[k]) = d_free(k);
 }
 
 Eigen::MatrixXd FlexibleBody::mesh_rows(const std::vector<int>& mesh_dofs) const {

@@ -86,6 +86,8 @@ class FlexibleBody {
   const std::vector<int>& free_dofs() const { return free_; }
   /// inertia()'s dofs from the elastic coordinates (zero on the clamped ones).
   Eigen::VectorXd full(const Eigen::VectorXd& d_free) const;
+  /// The same into `d` (a run's staged state: its storage is reused).
+  void full(const Eigen::VectorXd& d_free, Eigen::VectorXd& d) const;
   /// The displacement of the given mesh dofs per elastic coordinate, (rows.size() x num_elastic()):
   /// rows of the basis (reduced) or a selection (full; zero rows for clamped dofs).
   Eigen::MatrixXd mesh_rows(const std::vector<int>& mesh_dofs) const;

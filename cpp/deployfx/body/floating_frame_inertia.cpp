@@ -103,7 +103,11 @@ FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::Vecto
     for (int s = 0; s < ProductsMemo::kSlots; ++s)
       if (memo->z[s].size() == z.size() && memo->z[s] == z) return memo->products[s];
   Products P;
-  P.p_ = std::make_shared<const std::array<Eigen::VectorXd, 9>>(compute_products(z));
+  P.n_ = z.size();
+  std::shared_ptr<Eigen::VectorXd>* evicted = memo ? &memo->products[memo->next].p_ : nullptr;
+  if (evicted && *evicted && evicted->use_count() == 1) P.p_ = std::move(*evicted);  // held by the memo only
+  else P.p_ = std::make_shared<Eigen::VectorXd>();
+  compute_products(z, *P.p_);
   if (memo) {
     memo->z[memo->next] = z;
     memo->products[memo->next] = P;
@@ -112,26 +116,23 @@ FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::Vecto
   return P;
 }
 
-std::array<Eigen::VectorXd, 9> FloatingFrameInertia::compute_products(
-    const Eigen::VectorXd& z) const {
-  std::array<Eigen::VectorXd, 9> P;
+void FloatingFrameInertia::compute_products(const Eigen::VectorXd& z, Eigen::VectorXd& out) const {
   const Eigen::Index n = z.size();
+  out.resize(9 * n);
   if (dense_) {
-    const Eigen::VectorXd all = Mij_stacked_ * z;
-    for (int k = 0; k < 9; ++k) P[k] = all.segment(k * n, n);
-    return P;
+    out.noalias() = Mij_stacked_ * z;
+    return;
   }
   // A sparse product streams its matrix from memory: with M_ji = M_ij^T, one pass over M_ij
   // (column-major) gives both y = M_ij z (scattered by row) and y' = M_ji z (gathered by column),
   // six passes instead of nine.
   for (int i = 0; i < 3; ++i) {
-    P[4 * i] = Mij_[4 * i] * z;
+    out.segment(4 * i * n, n).noalias() = Mij_[4 * i] * z;
     for (int j = i + 1; j < 3; ++j) {
       const SparseMatrix& A = Mij_[3 * i + j];
-      Eigen::VectorXd& y = P[3 * i + j];
-      Eigen::VectorXd& yt = P[3 * j + i];
-      y.setZero(n);
-      yt.resize(n);
+      auto y = out.segment((3 * i + j) * n, n);
+      auto yt = out.segment((3 * j + i) * n, n);
+      y.setZero();
       const int* outer = A.outerIndexPtr();
       const int* row = A.innerIndexPtr();
       const double* val = A.valuePtr();
@@ -146,7 +147,6 @@ std::array<Eigen::VectorXd, 9> FloatingFrameInertia::compute_products(
       }
     }
   }
-  return P;
 }
 
 void FloatingFrameInertia::check(const Eigen::VectorXd& d, const char* name) const {
@@ -213,13 +213,17 @@ Eigen::Matrix3d FloatingFrameInertia::inertia_tensor_rate(const Eigen::VectorXd&
   return Edot.trace() * Eigen::Matrix3d::Identity() - Edot;
 }
 
-Eigen::VectorXd FloatingFrameInertia::centrifugal_load(const Eigen::Vector3d& w) const {
-  // int rho N_i^T (w_i (w.P) - |w|^2 P_i), with int rho N_i^T P_j = C.row(3 j + i)^T.
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(num_dofs());
+Eigen::Matrix<double, 9, 1> FloatingFrameInertia::centrifugal_weights(const Eigen::Vector3d& w) {
+  // int rho N_i^T (w_i (w.P) - |w|^2 P_i) = sum_ij (w_i w_j - delta_ij |w|^2) C.row(3 j + i)^T,
+  // with int rho N_i^T P_j = C.row(3 j + i)^T; the weights are symmetric in i, j.
+  Eigen::Matrix<double, 9, 1> c;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) f += w(i) * w(j) * C_.row(3 * j + i).transpose();
-  for (int i = 0; i < 3; ++i) f -= w.squaredNorm() * C_.row(4 * i).transpose();
-  return f;
+    for (int j = 0; j < 3; ++j) c(3 * j + i) = w(i) * w(j) - (i == j ? w.squaredNorm() : 0.0);
+  return c;
+}
+
+Eigen::VectorXd FloatingFrameInertia::centrifugal_load(const Eigen::Vector3d& w) const {
+  return C_.transpose() * centrifugal_weights(w);
 }
 
 FloatingFrameInertia::SparseMatrix FloatingFrameInertia::centrifugal_stiffness(const Eigen::Vector3d& w) const {
@@ -243,17 +247,16 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Prod
                                                                      const Eigen::Vector3d& x) const {
   // E_ij(d) = E0_ij + C_(ij) d + C_(ji) d + d^T M_ij d, so dE_ij/dd = C_(ij) + C_(ji) + z^T (M_ij + M_ji)
   // with z = d (M_ij^T z = M_ji z); (J x) = tr(E) x - E x.
-  std::array<Eigen::RowVectorXd, 9> g;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      g[3 * i + j] = (P[3 * j + i] + P[3 * i + j]).transpose();
-      if (with_C) g[3 * i + j] += C_.row(3 * i + j) + C_.row(3 * j + i);
-    }
-  const Eigen::RowVectorXd trace = g[0] + g[4] + g[8];
+  // Row l: x_l tr(g) - sum_j x_j g_lj, g_lj = (M_jl z + M_lj z)^T [+ C_(lj) + C_(jl)], summed in
+  // place (no temporaries: these run four times a Newton matrix).
   Matrix3X D(3, num_dofs());
   for (int l = 0; l < 3; ++l) {
-    D.row(l) = x(l) * trace;
-    for (int j = 0; j < 3; ++j) D.row(l) -= x(j) * g[3 * l + j];
+    D.row(l) = (2.0 * x(l)) * (P[0] + P[4] + P[8]).transpose();
+    if (with_C) D.row(l) += (2.0 * x(l)) * (C_.row(0) + C_.row(4) + C_.row(8));
+    for (int j = 0; j < 3; ++j) {
+      D.row(l) -= x(j) * (P[3 * j + l] + P[3 * l + j]).transpose();
+      if (with_C) D.row(l) -= x(j) * (C_.row(3 * l + j) + C_.row(3 * j + l));
+    }
   }
   return D;
 }
@@ -323,7 +326,12 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::forces(
   InertialForces f;
   f.F = m_ * a + al.cross(g.s) + S1_ * ddd + w.cross(w.cross(g.s)) + 2.0 * w.cross(S1dd);
   f.M = g.s.cross(a) + g.J * al + g.H * ddd + w.cross(g.J * w) + g.Jdot * w + w.cross(Hdd);
-  f.Q = S1_.transpose() * a + g.H.transpose() * al + M_ * ddd + centrifugal_load(w) + g.Gd + 2.0 * g.Gdd;
+  // Term by term into f.Q: one allocation, no temporaries.
+  f.Q.noalias() = S1_.transpose() * a;
+  f.Q.noalias() += g.H.transpose() * al;
+  f.Q.noalias() += M_ * ddd;
+  f.Q.noalias() += C_.transpose() * centrifugal_weights(w);  // centrifugal_load(w)
+  f.Q += g.Gd + 2.0 * g.Gdd;
   return f;
 }
 

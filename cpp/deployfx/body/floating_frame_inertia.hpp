@@ -44,20 +44,25 @@ class FloatingFrameInertia {
   const SparseMatrix& M() const { return M_; }              ///< L_c: the element mass matrix
 
   /// The products M_ij z (index k = 3 i + j) that every d-dependent integral below is built
-  /// from: the cost of those integrals. Immutable and shared.
+  /// from: the cost of those integrals. Immutable and shared: the nine stacked in one vector
+  /// (9 ndof), never written while anything but a memo holds it (products() reuses it then).
   class Products {
    public:
     Products() = default;
-    const Eigen::VectorXd& operator[](int k) const { return (*p_)[k]; }
+    Eigen::VectorXd::ConstSegmentReturnType operator[](int k) const {
+      return static_cast<const Eigen::VectorXd&>(*p_).segment(k * n_, n_);
+    }
 
    private:
     friend class FloatingFrameInertia;
-    std::shared_ptr<const std::array<Eigen::VectorXd, 9>> p_;
+    std::shared_ptr<Eigen::VectorXd> p_;
+    Eigen::Index n_ = 0;
   };
   /// A run's memo of products(): the last few (z, M_ij z) it formed, handed out again for the
   /// same z, so the integrals at one d share one set (a Newton iteration asks for them at one d in
   /// its residual, momentum, matrix and momentum Jacobian). Per-run data (multibody::Data), never
-  /// shared between runs: the model stays immutable and runs on it independent.
+  /// shared between runs: the model stays immutable and runs on it independent. A slot's storage
+  /// is reused for the next z once nothing else holds it: a run allocates none after its start.
   class ProductsMemo {
    private:
     friend class FloatingFrameInertia;
@@ -167,7 +172,10 @@ class FloatingFrameInertia {
   Eigen::MatrixXd Mij_stacked_;
   bool dense_ = false;
   SparseMatrix M_;
-  std::array<Eigen::VectorXd, 9> compute_products(const Eigen::VectorXd& z) const;
+  // c with centrifugal_load(w) = C^T c.
+  static Eigen::Matrix<double, 9, 1> centrifugal_weights(const Eigen::Vector3d& w);
+  // The nine M_k z into `out` (resized to 9 ndof), stacked.
+  void compute_products(const Eigen::VectorXd& z, Eigen::VectorXd& out) const;
 };
 
 }  // namespace deployfx::body

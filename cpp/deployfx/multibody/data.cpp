@@ -74,10 +74,12 @@ void forward_kinematics(const Model& m, Data& d, const Eigen::VectorXd& q, const
     PanelState& s = d.elastic[static_cast<std::size_t>(k)];
     s.q = q.segment(b.iq_el, b.n_el);
     s.v = v.segment(b.iv_el, b.n_el);
-    s.a = a ? Eigen::VectorXd(a->segment(b.iv_el, b.n_el)) : Eigen::VectorXd::Zero(b.n_el);
-    s.d = b.panel->full(s.q);
-    s.dd = b.panel->full(s.v);
-    s.ddd = b.panel->full(s.a);
+    if (a) s.a = a->segment(b.iv_el, b.n_el);
+    else s.a.setZero(b.n_el);
+    // In place: staging runs at every residual and matrix, and its vectors keep their sizes.
+    b.panel->full(s.q, s.d);
+    b.panel->full(s.v, s.dd);
+    b.panel->full(s.a, s.ddd);
   }
   for (int k = 0; k < m.num_hinges(); ++k) {
     const Body& b = m.body(k);

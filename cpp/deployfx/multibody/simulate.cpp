@@ -1,5 +1,8 @@
 #include "deployfx/multibody/simulate.hpp"
 
+#include <sstream>
+#include <stdexcept>
+
 #include "deployfx/multibody/tree_system.hpp"
 
 namespace deployfx::multibody {
@@ -7,6 +10,12 @@ namespace deployfx::multibody {
 RunResult simulate(const Model& m, Data& d, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                    const RunOptions& options, const integrate::Observer& record, const integrate::Poll& poll,
                    const CheckpointOptions* checkpoints) {
+  if (!(options.newton_tolerance >= kMinNewtonTolerance && options.newton_tolerance <= kMaxNewtonTolerance)) {
+    std::ostringstream e;
+    e << "newton_tolerance = " << options.newton_tolerance << " is out of range: must be in ["
+      << kMinNewtonTolerance << ", " << kMaxNewtonTolerance << "]";
+    throw std::invalid_argument(e.str());
+  }
   const Checkpoint* resume = checkpoints ? checkpoints->resume : nullptr;
   if (resume) {
     check_checkpoint(m, *resume);
@@ -20,6 +29,7 @@ RunResult simulate(const Model& m, Data& d, const Eigen::VectorXd& q0, const Eig
   TreeSystem system(m, d);
   integrate::NewtonOptions newton;
   newton.reuse_jacobian = options.reuse_jacobian;
+  newton.tolerance = options.newton_tolerance;
   integrate::GeneralizedAlpha integrator(system, options.scheme, newton);
   integrate::StepControl control;
   control.tolerance = options.tolerance;

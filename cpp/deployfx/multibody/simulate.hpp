@@ -20,7 +20,14 @@ struct RunOptions {
   integrate::AlphaParameters scheme = integrate::AlphaParameters::generalized_alpha(0.8);
   bool reuse_jacobian = true;
   double tolerance = 0;  ///< m or rad; 0: fixed steps
+  /// Newton's convergence test (integrate::NewtonOptions::tolerance): the estimated error of the
+  /// accelerations relative to max(|vdot_n|, 1), in [kMinNewtonTolerance, kMaxNewtonTolerance].
+  double newton_tolerance = integrate::NewtonOptions{}.tolerance;
 };
+
+/// The range of RunOptions::newton_tolerance: below 1e-14 the test asks for less than the
+/// solve's round-off; above 1e-4 a step's error is no longer small against dt's.
+inline constexpr double kMinNewtonTolerance = 1e-14, kMaxNewtonTolerance = 1e-4;
 
 struct RunResult {
   integrate::Trajectory trajectory;
