@@ -72,8 +72,12 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     if (extra_loads.cols() > 0) loads.rightCols(extra_loads.cols()) = extra_loads;
     if (!(spec_.derivative_modes >= -1 && spec_.derivative_modes <= spec_.modes))
       throw_out_of_range(name + ".derivative_modes", spec_.derivative_modes, "in [0, modes] or -1 (automatic)");
+    if (!(spec_.derivative_partners >= -1 && spec_.derivative_partners <= spec_.modes))
+      throw_out_of_range(name + ".derivative_partners", spec_.derivative_partners, "in [0, modes] or -1 (automatic)");
     const int derivatives = spec_.derivative_modes >= 0 ? spec_.derivative_modes : std::min(spec_.modes, 6);
-    basis_ = fem::ritz_basis(model, spec_.fixed_dofs, {spec_.modes, true, green_ ? derivatives : 0}, loads);
+    const int partners = spec_.derivative_partners >= 0 ? spec_.derivative_partners : 0;
+    basis_ = fem::ritz_basis(model, spec_.fixed_dofs,
+                             {spec_.modes, true, green_ ? derivatives : 0, green_ ? partners : 0}, loads);
     modal_.emplace(model, basis_.Phi, green_);
     ffi_ = ffi_.projected(basis_.Phi);
     const int r = modal_->size();
