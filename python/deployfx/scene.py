@@ -173,8 +173,8 @@ class Scene:
         motion in a Ritz basis of ``modes`` clamped vibration modes plus the static corrections
         for the root's acceleration loads (and, on a panel carrying hinges, unit loads at their
         attachment nodes) and, for Green strain, the modal derivatives of every pair among the
-        first ``derivative_modes`` modes (None: min(modes, 6)) and of each of the first
-        ``derivative_partners`` modes with every mode and with the static corrections (None: 0;
+        first ``derivative_modes`` modes (None: min(modes, 3)) and of each of the first
+        ``derivative_partners`` modes with every mode and with the static corrections (None: 1;
         a mode bent together with one whose derivatives with it are missing stiffens spuriously,
         docs/research/undamped-stability.md), with the exact polynomial internal force in that
         basis (docs/engine-design.md). Any fidelity on any body of a tree.

@@ -90,8 +90,8 @@ class Paper2016Parameters:
     damping: tuple = (0.7, 0.0)
     #: Reduced models: clamped vibration modes in the Ritz basis (Scene.set_appendage).
     modes: int = 10
-    derivative_modes: Optional[int] = None      #: None: min(modes, 6) (Scene.set_appendage)
-    derivative_partners: Optional[int] = None   #: None: 0 (Scene.set_appendage)
+    derivative_modes: Optional[int] = None      #: None: min(modes, 3) (Scene.set_appendage)
+    derivative_partners: Optional[int] = None   #: None: 1 (Scene.set_appendage)
     #: 1: the paper's spacecraft; 2: a second, mirrored yoke and appendage on the opposite side of
     #: the base (hinge at (-hinge_x, 0, 0)), deploying at the same time (hinge 1).
     wings: int = 1

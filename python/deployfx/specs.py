@@ -215,8 +215,8 @@ class Appendage:
     """A panel: a shell mesh with node coordinates in its body frame (m), the dofs clamped to the
     frame (its root), its :class:`Fidelity`, Rayleigh damping C = alpha_M M + beta_K K (1/s, s),
     and for the reduced fidelities the clamped ``modes`` kept and the modal derivatives of every
-    pair among the first ``derivative_modes`` (None: min(modes, 6)) and of each of the first
-    ``derivative_partners`` modes with every mode and static correction (None: 0); ``strengths``: its plies' allowables
+    pair among the first ``derivative_modes`` (None: min(modes, 3)) and of each of the first
+    ``derivative_partners`` modes with every mode and static correction (None: 1); ``strengths``: its plies' allowables
     (:class:`~deployfx.Strengths`, one for every ply or one per ply, bottom first), for the ply
     failure envelope of a run (``Model.simulate(..., stresses=True)``), or None."""
 

@@ -47,9 +47,9 @@ struct AppendageSpec {
   double alpha_M = 0, beta_K = 0;
   /// Reduced fidelities: the clamped vibration modes kept; the basis adds the static corrections
   /// and, for Green strain, the modal derivatives of every pair among the first
-  /// `derivative_modes` modes (-1: min(modes, 6); fewer lets the bending stretch the mid-surface,
+  /// `derivative_modes` modes (-1: min(modes, 3); fewer lets the bending stretch the mid-surface,
   /// a spurious stiffening: docs/engine-design.md), and of each of the first
-  /// `derivative_partners` modes with every mode and static correction (-1: automatic, 0;
+  /// `derivative_partners` modes with every mode and static correction (-1: automatic, 1;
   /// fem/ritz_basis.hpp).
   int modes = 10;
   int derivative_modes = -1;
