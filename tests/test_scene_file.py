@@ -116,16 +116,17 @@ def test_ref_axis_and_rigid_parts_are_kept(tmp_path):
 
 @pytest.mark.parametrize("suffix", SUFFIXES)
 def test_reduced_panel_modes_round_trip_by_name(tmp_path, suffix):
-    # The Ritz basis' size is part of the model: modes and derivative_modes are named keys of the
-    # appendage (version 3), and the loaded model has the same basis and the same run.
+    # The Ritz basis' size is part of the model: modes, derivative_modes and derivative_partners
+    # are named keys of the appendage (version 3), and the loaded model has the same basis and the
+    # same run.
     strip = scenes.spin_up_strip(nx=4)
     scene = (Scene().set_base(1.0, 1.0, free=False)
              .set_hinge(point=(0.0, 0.0, 0.0), axis=(0.0, 1.0, 0.0), spin_up=(2.0, 15.0))
              .set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity="reduced-nonlinear",
-                            modes=4, derivative_modes=2))
+                            modes=4, derivative_modes=2, derivative_partners=1))
     appendage = scene_file.scene_to_dict(scene)["hinges"][0]["appendage"]
-    assert (appendage["fidelity"], appendage["modes"], appendage["derivative_modes"]) == (
-        "reduced-nonlinear", 4, 2)
+    assert (appendage["fidelity"], appendage["modes"], appendage["derivative_modes"],
+            appendage["derivative_partners"]) == ("reduced-nonlinear", 4, 2, 1)
     assert "options" not in appendage
     loaded = _round_trip(scene, tmp_path / f"reduced{suffix}")
     model, reference = loaded.compile(), scene.compile()

@@ -126,15 +126,16 @@ void define_multibody(py::module_& m) {
 
   py::class_<AppendageSpec>(m, "PanelSpec", "A panel in its body frame: a ShellModel (nodes in C, m), its clamped dofs, "
                                             "fidelity, Rayleigh damping alpha_M (1/s), beta_K (s), and for the reduced "
-                                            "fidelities modes and derivative_modes (-1: automatic).")
+                                            "fidelities modes, derivative_modes and derivative_partners (-1: automatic).")
       .def(py::init([](const deployfx::fem::ShellModel& shell, std::vector<int> fixed_dofs, const std::string& fidelity,
-                       double alpha_M, double beta_K, int modes, int derivative_modes) {
+                       double alpha_M, double beta_K, int modes, int derivative_modes, int derivative_partners) {
              return AppendageSpec{std::make_shared<const deployfx::fem::ShellModel>(shell), std::move(fixed_dofs),
                                   deployfx::body::fidelity_from_name(fidelity, "panel.fidelity"), alpha_M, beta_K, modes,
-                                  derivative_modes};
+                                  derivative_modes, derivative_partners};
            }),
            py::kw_only(), py::arg("shell"), py::arg("fixed_dofs"), py::arg("fidelity"), py::arg("alpha_M") = 0.0,
-           py::arg("beta_K") = 0.0, py::arg("modes") = 10, py::arg("derivative_modes") = -1);
+           py::arg("beta_K") = 0.0, py::arg("modes") = 10, py::arg("derivative_modes") = -1,
+           py::arg("derivative_partners") = -1);
 
   py::class_<HingeSpec>(m, "HingeSpec",
                         "Hinge k and the body it carries: parent (-1 the base, else an earlier hinge's index), a point "

@@ -163,8 +163,9 @@ def _read_appendage(scene: Scene, a: Any, where: str, k: int, version: int) -> N
     if version >= 3:
         a = _table(a, where, _APPENDAGE_FILE_KEYS, _APPENDAGE_OPTIONAL)
         opts = {"modes": a["modes"]}
-        if "derivative_modes" in a:
-            opts["derivative_modes"] = a["derivative_modes"]
+        for key in ("derivative_modes", "derivative_partners"):
+            if key in a:
+                opts[key] = a[key]
         table = where
     else:
         a = _table(a, where, ("fidelity", "fixed_dofs", "alpha_M_per_s", "beta_K_s", "shell"), ("options",))

@@ -19,7 +19,7 @@ _HINGE_FILE_KEYS = ("parent", "point_m", "axis", "R_PC0", "tau0_N_m", "k_theta_N
 _HINGE_OPTIONAL = ("stowed_angle_deg", "spin_up", "parts", "appendage", "lock", "groove")
 _PART_FILE_KEYS = ("mass_kg", "com_m", "inertia_kg_m2")
 _APPENDAGE_FILE_KEYS = ("fidelity", "fixed_dofs", "alpha_M_per_s", "beta_K_s", "modes", "shell")
-_APPENDAGE_OPTIONAL = ("derivative_modes", "strengths")
+_APPENDAGE_OPTIONAL = ("derivative_modes", "strengths", "derivative_partners")
 # A ply's strength allowables (deployfx.Strengths): required, and optional keys.
 _STRENGTH_KEYS = ("Xt_Pa", "Xc_Pa", "Yt_Pa", "Yc_Pa", "S12_Pa", "F12_star")
 _STRENGTH_OPTIONAL = ("S13_Pa", "S23_Pa")

@@ -599,7 +599,8 @@ def compile_model(scene, description: Optional[dict]) -> Model:
         if a is not None:
             panel = _core.PanelSpec(shell=a.shell._impl, fixed_dofs=list(a.fixed_dofs), fidelity=a.fidelity.value,
                                     alpha_M=a.alpha_M, beta_K=a.beta_K, modes=a.modes,
-                                    derivative_modes=-1 if a.derivative_modes is None else a.derivative_modes)
+                                    derivative_modes=-1 if a.derivative_modes is None else a.derivative_modes,
+                                    derivative_partners=-1 if a.derivative_partners is None else a.derivative_partners)
         lock = None
         if isinstance(link.lock, PinGroove):
             lock = link.lock._impl

@@ -163,7 +163,8 @@ class Scene:
     def set_appendage(self, shell: ShellModel, fixed_dofs: Sequence[int], *,
                       fidelity: Union[str, Fidelity] = Fidelity.NONLINEAR,
                       damping: tuple = (0.0, 0.0), modes: int = 10, derivative_modes: Optional[int] = None,
-                      strengths=None, hinge: Optional[int] = None) -> "Scene":
+                      strengths=None, hinge: Optional[int] = None,
+                      derivative_partners: Optional[int] = None) -> "Scene":
         """The panel of hinge ``hinge``'s body (None: the last hinge declared): a shell mesh with
         node coordinates in the body frame (m), the dofs clamped to the frame (its root edge) and
         the fidelity (:class:`~deployfx.specs.Fidelity`): "rigid" (one rigid body: the mesh's mass
@@ -172,8 +173,11 @@ class Scene:
         motion in a Ritz basis of ``modes`` clamped vibration modes plus the static corrections
         for the root's acceleration loads (and, on a panel carrying hinges, unit loads at their
         attachment nodes) and, for Green strain, the modal derivatives of every pair among the
-        first ``derivative_modes`` modes (None: min(modes, 6)), with the exact polynomial internal
-        force in that basis (docs/engine-design.md). Any fidelity on any body of a tree.
+        first ``derivative_modes`` modes (None: min(modes, 3)) and of each of the first
+        ``derivative_partners`` modes with every mode and with the static corrections (None: 1;
+        a mode bent together with one whose derivatives with it are missing stiffens spuriously,
+        docs/research/undamped-stability.md), with the exact polynomial internal force in that
+        basis (docs/engine-design.md). Any fidelity on any body of a tree.
         ``damping = (alpha_M, beta_K)``: structural Rayleigh damping C = alpha_M M + beta_K K
         (1/s, s), a modal damping ratio (alpha_M / omega + beta_K omega) / 2.
         ``strengths``: the plies' allowables (:class:`~deployfx.Strengths`, one for all plies or
@@ -181,7 +185,7 @@ class Scene:
         :mod:`deployfx.stress`); deployfx ships none."""
         k = self._index(hinge, "appendage")
         self._replace(k, appendage=Appendage.make("appendage", shell, fixed_dofs, fidelity, damping, modes,
-                                                  derivative_modes, strengths))
+                                                  derivative_modes, strengths, derivative_partners))
         return self
 
     def set_lock(self, theta_lock: float, pin_radius: float, clearance: float, law: ContactLaw, *,

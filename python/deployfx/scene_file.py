@@ -47,7 +47,8 @@ Optional parts are simply left out (TOML has no null)::
     fixed_dofs = [...]                   # dof indices (6 per node) clamped to C_k
     alpha_M_per_s, beta_K_s              # Rayleigh damping
     modes = 10                           # reduced fidelities: clamped modes kept
-    derivative_modes = 6                 # optional (left out: min(modes, 6))
+    derivative_modes = 3                 # optional (left out: min(modes, 3))
+    derivative_partners = 1              # optional (left out: 1)
     strengths = [{Xt_Pa, Xc_Pa, Yt_Pa, Yc_Pa, S12_Pa, F12_star, S13_Pa, S23_Pa}]
                                          # optional: the plies' allowables (deployfx.Strengths),
                                          #   one for all plies or one per ply; S13, S23 optional
@@ -142,6 +143,8 @@ def _write_appendage(a: Appendage) -> dict:
            "alpha_M_per_s": float(a.alpha_M), "beta_K_s": float(a.beta_K), "modes": int(a.modes)}
     if a.derivative_modes is not None:
         out["derivative_modes"] = int(a.derivative_modes)
+    if a.derivative_partners is not None:
+        out["derivative_partners"] = int(a.derivative_partners)
     if a.strengths is not None:
         out["strengths"] = [{**{f"{k}_Pa": float(getattr(s, k)) for k in ("Xt", "Xc", "Yt", "Yc", "S12")},
                              "F12_star": float(s.F12_star),

@@ -90,7 +90,8 @@ class Paper2016Parameters:
     damping: tuple = (0.7, 0.0)
     #: Reduced models: clamped vibration modes in the Ritz basis (Scene.set_appendage).
     modes: int = 10
-    derivative_modes: Optional[int] = None      #: None: min(modes, 6) (Scene.set_appendage)
+    derivative_modes: Optional[int] = None      #: None: min(modes, 3) (Scene.set_appendage)
+    derivative_partners: Optional[int] = None   #: None: 1 (Scene.set_appendage)
     #: 1: the paper's spacecraft; 2: a second, mirrored yoke and appendage on the opposite side of
     #: the base (hinge at (-hinge_x, 0, 0)), deploying at the same time (hinge 1).
     wings: int = 1
@@ -149,7 +150,8 @@ class Paper2016Scene:
                             tau0=p.tau0, k_theta=p.k_theta, c_theta=p.c_theta, fitting_inertia=p.fitting_inertia,
                             stowed_angle_deg=90.0)
             scene.set_appendage(shell, fixed, fidelity=fidelity, damping=p.damping, modes=p.modes,
-                                derivative_modes=p.derivative_modes, strengths=p.strengths)
+                                derivative_modes=p.derivative_modes, strengths=p.strengths,
+                                derivative_partners=p.derivative_partners)
             if p.lock:
                 # Either geometry: the pin seats at 180 deg, pin_radius from the axis, with
                 # clearance of play (Lock checks both, naming them, for the groove too).

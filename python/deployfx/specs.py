@@ -214,8 +214,9 @@ class Hinge:
 class Appendage:
     """A panel: a shell mesh with node coordinates in its body frame (m), the dofs clamped to the
     frame (its root), its :class:`Fidelity`, Rayleigh damping C = alpha_M M + beta_K K (1/s, s),
-    and for the reduced fidelities the clamped ``modes`` kept and the modal derivatives of the
-    first ``derivative_modes`` (None: min(modes, 6)); ``strengths``: its plies' allowables
+    and for the reduced fidelities the clamped ``modes`` kept and the modal derivatives of every
+    pair among the first ``derivative_modes`` (None: min(modes, 3)) and of each of the first
+    ``derivative_partners`` modes with every mode and static correction (None: 1); ``strengths``: its plies' allowables
     (:class:`~deployfx.Strengths`, one for every ply or one per ply, bottom first), for the ply
     failure envelope of a run (``Model.simulate(..., stresses=True)``), or None."""
 
@@ -227,10 +228,11 @@ class Appendage:
     modes: int = 10
     derivative_modes: Optional[int] = None
     strengths: Optional[tuple] = None
+    derivative_partners: Optional[int] = None
 
     @staticmethod
     def make(name: str, shell, fixed_dofs, fidelity, damping, modes, derivative_modes,
-             strengths=None) -> "Appendage":
+             strengths=None, derivative_partners=None) -> "Appendage":
         """A checked panel; errors name ``<name>.<parameter>``."""
         if not isinstance(shell, ShellModel):
             raise TypeError(f"{name}.shell must be a deployfx.ShellModel, got {type(shell).__name__}")
@@ -260,6 +262,11 @@ class Appendage:
             if not 0 <= derivative_modes <= modes:
                 raise ValueError(f"{name}.derivative_modes = {derivative_modes} is out of range: must be in "
                                  f"[0, modes = {modes}] or None")
+        if derivative_partners is not None:
+            derivative_partners = as_int(f"{name}.derivative_partners", derivative_partners)
+            if not 0 <= derivative_partners <= modes:
+                raise ValueError(f"{name}.derivative_partners = {derivative_partners} is out of range: must be in "
+                                 f"[0, modes = {modes}] or None")
         if fidelity in (Fidelity.LINEAR, Fidelity.NONLINEAR) and n_free == 0:
             raise ValueError(f"{name}.fixed_dofs clamps every dof: a deforming panel needs free dofs (use "
                              "fidelity='rigid' for a panel that does not deform)")
@@ -271,7 +278,7 @@ class Appendage:
                                 f"got {strengths!r}")
             strengths = per_ply
         return Appendage(shell, tuple(fixed), fidelity, modes=modes, derivative_modes=derivative_modes,
-                         strengths=strengths, **values)
+                         strengths=strengths, derivative_partners=derivative_partners, **values)
 
 
 @dataclass(frozen=True)

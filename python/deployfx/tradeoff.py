@@ -81,7 +81,7 @@ class Case:
     - ``modes``: clamped modes of a reduced model (None: the scene's default, 10); must be None
       for the full fidelities;
     - ``derivative_modes``: the reduced-nonlinear basis's modal derivatives are those of every
-      pair among its first ``derivative_modes`` modes (None: min(modes, 6); fewer: a smaller
+      pair among its first ``derivative_modes`` modes (None: min(modes, 3); fewer: a smaller
       basis, cheaper per step, whose node E deflection drifts from the full model's); must be None
       for the other fidelities;
     - ``tolerance`` (m or rad): error-controlled steps of at most ``dt``

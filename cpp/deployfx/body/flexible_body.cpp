@@ -72,8 +72,16 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     if (extra_loads.cols() > 0) loads.rightCols(extra_loads.cols()) = extra_loads;
     if (!(spec_.derivative_modes >= -1 && spec_.derivative_modes <= spec_.modes))
       throw_out_of_range(name + ".derivative_modes", spec_.derivative_modes, "in [0, modes] or -1 (automatic)");
-    const int derivatives = spec_.derivative_modes >= 0 ? spec_.derivative_modes : std::min(spec_.modes, 6);
-    basis_ = fem::ritz_basis(model, spec_.fixed_dofs, {spec_.modes, true, green_ ? derivatives : 0}, loads);
+    if (!(spec_.derivative_partners >= -1 && spec_.derivative_partners <= spec_.modes))
+      throw_out_of_range(name + ".derivative_partners", spec_.derivative_partners, "in [0, modes] or -1 (automatic)");
+    // Automatic: the pairs among the first 3 modes and the first mode's partners (30 vectors on
+    // the paper's panel; docs/research/undamped-stability.md: with the first 6 modes' pairs and no
+    // partners, modes 7-10 stiffened with the first mode's amplitude and the undamped reduced
+    // model was chaotic).
+    const int derivatives = spec_.derivative_modes >= 0 ? spec_.derivative_modes : std::min(spec_.modes, 3);
+    const int partners = spec_.derivative_partners >= 0 ? spec_.derivative_partners : std::min(spec_.modes, 1);
+    basis_ = fem::ritz_basis(model, spec_.fixed_dofs,
+                             {spec_.modes, true, green_ ? derivatives : 0, green_ ? partners : 0}, loads);
     modal_.emplace(model, basis_.Phi, green_);
     ffi_ = ffi_.projected(basis_.Phi);
     const int r = modal_->size();

@@ -47,10 +47,13 @@ struct AppendageSpec {
   double alpha_M = 0, beta_K = 0;
   /// Reduced fidelities: the clamped vibration modes kept; the basis adds the static corrections
   /// and, for Green strain, the modal derivatives of every pair among the first
-  /// `derivative_modes` modes (-1: min(modes, 6); fewer lets the bending stretch the mid-surface,
-  /// a spurious stiffening: docs/engine-design.md).
+  /// `derivative_modes` modes (-1: min(modes, 3); fewer lets the bending stretch the mid-surface,
+  /// a spurious stiffening: docs/engine-design.md), and of each of the first
+  /// `derivative_partners` modes with every mode and static correction (-1: automatic, 1;
+  /// fem/ritz_basis.hpp).
   int modes = 10;
   int derivative_modes = -1;
+  int derivative_partners = -1;
 };
 
 class FlexibleBody {
@@ -64,7 +67,8 @@ class FlexibleBody {
   };
 
   /// Checks the spec (std::invalid_argument naming `<name>.model`, `<name>.alpha_M`,
-  /// `<name>.beta_K`, `<name>.modes`, `<name>.derivative_modes`) and compiles it.
+  /// `<name>.beta_K`, `<name>.modes`, `<name>.derivative_modes`, `<name>.derivative_partners`) and
+  /// compiles it.
   /// `extra_loads` (mesh dofs x m, may have no columns): further load shapes whose static
   /// responses K^-1 f join a reduced basis, beside those of E's own acceleration (S1^T, H(0)^T,
   /// Eq. 28): e.g. unit loads where a child body is attached (system/chain_attachment.hpp).

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "deployfx/fem/constrained_solve.hpp"
 #include "deployfx/fem/parity.hpp"
@@ -127,16 +128,19 @@ RitzBasis ritz_basis(const ShellModel& model, const std::vector<int>& fixed,
   if (options.derivative_modes < 0 || options.derivative_modes > options.modes)
     throw std::invalid_argument("derivative_modes = " + std::to_string(options.derivative_modes) +
                                 " is out of range: must be in [0, modes]");
+  if (options.derivative_partners < 0 || options.derivative_partners > options.modes)
+    throw std::invalid_argument("derivative_partners = " + std::to_string(options.derivative_partners) +
+                                " is out of range: must be in [0, modes]");
   const SparseMatrix K = restrict(model.stiffness(), free), M = restrict(model.mass(), free);
+  const bool by_parity = parity_decoupled(K, free, kDecoupled) && parity_decoupled(M, free, kDecoupled);
   const ModalResult modal = lowest_modes(K, M, options.modes);
 
   std::vector<Eigen::VectorXd> cand;  // candidates on the free dofs, the modes first
   for (int i = 0; i < options.modes; ++i) cand.push_back(modal.modes.col(i));
   const auto n_modes = static_cast<std::size_t>(options.modes);
   Eigen::SimplicialLDLT<SparseMatrix> K_inv;
-  const int n_extra = (options.static_correction ? static_cast<int>(inertial_loads.cols()) : 0) +
-                      options.derivative_modes * (options.derivative_modes + 1) / 2;
-  if (n_extra > 0) {
+  const bool derivatives = options.derivative_modes > 0 || options.derivative_partners > 0;
+  if ((options.static_correction && inertial_loads.cols() > 0) || derivatives) {
     K_inv.compute(K);
     if (K_inv.info() != Eigen::Success || !(K_inv.vectorD().minCoeff() > 0))
       throw std::invalid_argument(
@@ -150,7 +154,7 @@ RitzBasis ritz_basis(const ShellModel& model, const std::vector<int>& fixed,
     const Eigen::MatrixXd F = gather_rows(inertial_loads, free);
     for (int c = 0; c < F.cols(); ++c) cand.push_back(K_inv.solve(F.col(c))), ++n_static;
   }
-  if (options.derivative_modes > 0) {
+  if (derivatives) {
     // f(d) is cubic in d (Eq. 14: Green strain is quadratic), so its even part is exactly the
     // quadratic term f2: f2(x) = (f(x) + f(-x)) / 2, and d(K_T phi_i)/d phi_j = 2 f2(phi_i, phi_j)
     // with f2(x, y) = (f2(x + y) - f2(x - y)) / 4.
@@ -164,16 +168,60 @@ RitzBasis ritz_basis(const ShellModel& model, const std::vector<int>& fixed,
       for (int k = 0; k < nf; ++k) out(k) = even(free[k]);
       return out;
     };
-    for (int i = 0; i < options.derivative_modes; ++i)
-      for (int j = i; j < options.derivative_modes; ++j) {
-        const Eigen::VectorXd &a = modal.modes.col(i), &b = modal.modes.col(j);
-        const Eigen::VectorXd dK = 0.5 * (f2(a + b) - f2(a - b));
-        cand.push_back(-K_inv.solve(dK)), ++n_deriv;
+    // Where the span splits by parity, the derivative of two bending vectors is exactly in-plane
+    // (q keeps the parity); its bending part is the round-off of f's odd part in the even part,
+    // eps |K x|, which the soft bending compliance amplifies: 4e-10 of the M-norm squared for the
+    // first mode with a static correction's direction beyond the modes (6 x 4, lay-up 2), above
+    // kDependent, where it would join the basis as a spurious stiff bending vector. Dropped.
+    auto derivative = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+      const Eigen::VectorXd dK = 0.5 * (f2(a + b) - f2(a - b));
+      cand.push_back(-K_inv.solve(dK)), ++n_deriv;
+      if (by_parity)
+        for (int k = 0; k < nf; ++k)
+          if (dof_parity(free[k]) == Parity::kBending) cand.back()(k) = 0.0;
+    };
+    const int nd = options.derivative_modes, np = options.derivative_partners;
+    for (int i = 0; i < nd; ++i)
+      for (int j = i; j < nd; ++j) derivative(modal.modes.col(i), modal.modes.col(j));
+    // The partners: pairs (i, j), i < np, i <= j < modes, not among the above.
+    for (int i = 0; i < np; ++i)
+      for (int j = std::max(i, i < nd ? nd : 0); j < options.modes; ++j)
+        derivative(modal.modes.col(i), modal.modes.col(j));
+    if (np > 0) {
+      // The static corrections' directions beyond the modes: their bending parts where the span
+      // splits by parity (an in-plane direction's "derivative" would be a bending vector, the
+      // in-plane prestress's, not the membrane relaxation sought), M-orthogonalised against the
+      // modes and each other as in rayleigh_ritz (the same kept directions), M-normalised like
+      // the modes: f2's even part cancels the linear force's round-off, eps |K x|, which for a
+      // small x would swamp the quadratic |x|^2 (a static correction of a unit load is ~1e-5).
+      std::vector<Eigen::VectorXd> dirs, Mdirs;
+      for (int c = 0; c < options.modes; ++c) {
+        dirs.push_back(modal.modes.col(c));
+        Mdirs.push_back(M * dirs.back());
       }
+      for (int c = 0; c < n_static; ++c) {
+        const Eigen::VectorXd& x = cand[n_modes + static_cast<std::size_t>(c)];
+        Eigen::VectorXd y = x;
+        if (by_parity)
+          for (int k = 0; k < nf; ++k)
+            if (dof_parity(free[k]) != Parity::kBending) y(k) = 0.0;
+        const double norm = std::sqrt(y.dot(M * y));
+        if (!(norm * norm > kDependent * x.dot(M * x))) continue;  // as rayleigh_ritz_by_parity
+        y /= norm;
+        for (int pass = 0; pass < 2; ++pass)
+          for (std::size_t q = 0; q < dirs.size(); ++q) y -= Mdirs[q].dot(y) * dirs[q];
+        const Eigen::VectorXd My = M * y;
+        const double kept = y.dot(My);
+        if (!(kept > kDependent)) continue;
+        dirs.push_back(y / std::sqrt(kept));
+        Mdirs.push_back(My / std::sqrt(kept));
+      }
+      for (int i = 0; i < np; ++i)
+        for (std::size_t s = n_modes; s < dirs.size(); ++s) derivative(modal.modes.col(i), dirs[s]);
+    }
   }
-  const RitzPairs ritz = parity_decoupled(K, free, kDecoupled) && parity_decoupled(M, free, kDecoupled)
-                             ? rayleigh_ritz_by_parity(cand, n_modes, free, K, M)
-                             : rayleigh_ritz(cand, n_modes, K, M);
+  const RitzPairs ritz = by_parity ? rayleigh_ritz_by_parity(cand, n_modes, free, K, M)
+                                   : rayleigh_ritz(cand, n_modes, K, M);
   const Eigen::MatrixXd& Phi_free = ritz.Phi;
 
   RitzBasis basis;

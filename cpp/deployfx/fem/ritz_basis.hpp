@@ -7,7 +7,13 @@
 //   that actually drive it; Dickens, Nakagawa & Wittbrodt, Comput. Struct. 62, 1997);
 // - modal derivatives for Green strain: -K^-1 (dK_T/d phi_j) phi_i (Idelsohn & Cardona, CMAME
 //   49, 1985), the in-plane motion that large bending drags along, without which a bending-only
-//   basis stretches the mid-surface and stiffens spuriously.
+//   basis stretches the mid-surface and stiffens spuriously. Which pairs: every pair among the
+//   first `derivative_modes` modes, and each of the first `derivative_partners` modes with every
+//   other direction of the bending span (every mode, and the static corrections' parts beyond the
+//   modes): a mode j bent together with mode i stretches the mid-surface by q(phi_i, phi_j), which
+//   only the derivative of the pair relaxes; without it mode j stiffens with mode i's amplitude
+//   (docs/research/undamped-stability.md: the first mode's partners keep every condensed bending
+//   frequency at the first mode's amplitude that of the full in-plane motion).
 // The span is orthonormalised in M and rotated to Ritz vectors (Phi^T M Phi = I,
 // Phi^T K Phi = diag(omega2)), so the reduced linear model is diagonal. Where K and M decouple
 // bending from in-plane motion (a flat symmetric laminate, parity.hpp), this is done in each
@@ -23,6 +29,9 @@ struct RitzBasisOptions {
   int modes = 10;            ///< clamped vibration modes, >= 1
   bool static_correction = true;
   int derivative_modes = 0;  ///< modal derivatives of every pair among the first this many modes
+  /// and of each of the first this many modes with every mode and with the static corrections'
+  /// directions beyond the modes (their bending parts where the span splits by parity)
+  int derivative_partners = 0;
 };
 
 struct RitzBasis {
@@ -33,8 +42,8 @@ struct RitzBasis {
 };
 
 /// `inertial_loads`: (ndof x m) load shapes for the static correction (ignored without it).
-/// Throws std::invalid_argument for modes out of [1, free dofs] or derivative_modes out of
-/// [0, modes] or fixed dofs that leave the clamped stiffness singular.
+/// Throws std::invalid_argument for modes out of [1, free dofs], derivative_modes or
+/// derivative_partners out of [0, modes], or fixed dofs that leave the clamped stiffness singular.
 RitzBasis ritz_basis(const ShellModel& model, const std::vector<int>& fixed,
                      const RitzBasisOptions& options, const Eigen::MatrixXd& inertial_loads);
 
