@@ -158,6 +158,12 @@ def test_cases_are_checked():
         Case("reduced-nonlinear", modes=5, derivative_modes=-1)
     assert Case("reduced-nonlinear", 4, 3, modes=10, derivative_modes=3).name == \
         "reduced-nonlinear(10, md=3) 4x3 dt=0.01 GA(0.8)"
+    with pytest.raises(ValueError, match="derivative_partners"):
+        Case("nonlinear", derivative_partners=1)
+    with pytest.raises(ValueError, match="derivative_partners = -1 is out of range"):
+        Case("reduced-nonlinear", derivative_partners=-1)
+    assert Case("reduced-nonlinear", 4, 3, modes=10, derivative_modes=3, derivative_partners=0).name == \
+        "reduced-nonlinear(10, md=3, dp=0) 4x3 dt=0.01 GA(0.8)"
 
 
 def test_derivative_modes_set_the_reduced_basis(run):
@@ -174,3 +180,7 @@ def test_derivative_modes_set_the_reduced_basis(run):
     assert one["basis_size"] < three["basis_size"] == default["basis_size"]
     assert default["modal_derivatives"] == 7 and one["failure"] is None
     assert four["failure"].startswith("scene:") and "derivative_modes" in four["failure"]
+    # Without the partners: the pairs among the first k only (today's md=3 basis of session 17).
+    (no_partners,) = dfx.tradeoff([Case("reduced-nonlinear", 2, 1, 0.01, modes=3, derivative_modes=3,
+                                        derivative_partners=0)], ref, T_END)[1:]
+    assert no_partners["modal_derivatives"] == 6 and no_partners["basis_size"] <= default["basis_size"]

@@ -84,6 +84,9 @@ class Case:
       pair among its first ``derivative_modes`` modes (None: min(modes, 3); fewer: a smaller
       basis, cheaper per step, whose node E deflection drifts from the full model's); must be None
       for the other fidelities;
+    - ``derivative_partners``: and those of each of its first ``derivative_partners`` modes with
+      every mode and static correction (None: the scene's default, 1; 0: the pairs above only;
+      docs/research/undamped-stability.md); reduced-nonlinear only, like ``derivative_modes``;
     - ``tolerance`` (m or rad): error-controlled steps of at most ``dt``
       (:meth:`deployfx.scene.Model.simulate`); None: fixed steps;
     - ``newton_tolerance``: Newton's convergence test on the accelerations' relative error
@@ -98,6 +101,7 @@ class Case:
     scheme: Scheme = GeneralizedAlpha(0.8)
     modes: Optional[int] = None
     derivative_modes: Optional[int] = None
+    derivative_partners: Optional[int] = None
     tolerance: Optional[float] = None
     newton_tolerance: Optional[float] = None
     label: Optional[str] = None
@@ -119,6 +123,13 @@ class Case:
                                  f"not {self.model!r}")
             if as_int("modes", self.modes) < 1:
                 raise ValueError(f"modes = {self.modes} is out of range: must be >= 1")
+        if self.derivative_partners is not None:
+            if self.model != "reduced-nonlinear":
+                raise ValueError(f"derivative_partners = {self.derivative_partners} is only for the "
+                                 f"reduced-nonlinear model, not {self.model!r}")
+            if as_int("derivative_partners", self.derivative_partners) < 0:
+                raise ValueError(f"derivative_partners = {self.derivative_partners} is out of range: "
+                                 "must be >= 0 (and <= modes)")
         if self.derivative_modes is not None:
             if self.model != "reduced-nonlinear":
                 raise ValueError(f"derivative_modes = {self.derivative_modes} is only for the "
@@ -151,6 +162,8 @@ class Case:
         size = [] if self.modes is None else [str(self.modes)]
         if self.derivative_modes is not None:
             size.append(f"md={self.derivative_modes}")
+        if self.derivative_partners is not None:
+            size.append(f"dp={self.derivative_partners}")
         model = f"{self.model}({', '.join(size)})" if size else self.model
         mesh = "" if self.model == "rigid" else f" {self.mesh}"
         step = f"dt<={self.dt:g} tol={self.tolerance:g}" if self.tolerance else f"dt={self.dt:g}"
@@ -219,7 +232,7 @@ def tradeoff(cases: Iterable[CaseLike], reference: Union[CaseLike, Result], t_en
     if repeat < 1:
         raise ValueError(f"repeat = {repeat} is out of range: must be >= 1")
     overrides = dict(scene_overrides or {})
-    for key in ("model", "nx", "ny", "modes", "derivative_modes", "layup"):
+    for key in ("model", "nx", "ny", "modes", "derivative_modes", "derivative_partners", "layup"):
         if key in overrides:
             raise ValueError(f"scene_overrides must not set {key!r}: it is a Case field or an "
                              "argument")
@@ -266,8 +279,9 @@ def _run(case: Case, t_end: float, layup: int, repeat: int,
     kwargs = dict(overrides, nx=case.nx, ny=case.ny)
     if case.modes is not None:
         kwargs["modes"] = case.modes
-    if case.derivative_modes is not None:
-        kwargs["derivative_modes"] = case.derivative_modes
+    for key in ("derivative_modes", "derivative_partners"):
+        if getattr(case, key) is not None:
+            kwargs[key] = getattr(case, key)
     start = time.perf_counter()
     try:
         scene = scenes.paper2016(layup, case.model, **kwargs)
