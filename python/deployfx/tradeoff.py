@@ -123,20 +123,15 @@ class Case:
                                  f"not {self.model!r}")
             if as_int("modes", self.modes) < 1:
                 raise ValueError(f"modes = {self.modes} is out of range: must be >= 1")
-        if self.derivative_partners is not None:
+        for name in ("derivative_modes", "derivative_partners"):  # the reduced basis's derivatives
+            value = getattr(self, name)
+            if value is None:
+                continue
             if self.model != "reduced-nonlinear":
-                raise ValueError(f"derivative_partners = {self.derivative_partners} is only for the "
-                                 f"reduced-nonlinear model, not {self.model!r}")
-            if as_int("derivative_partners", self.derivative_partners) < 0:
-                raise ValueError(f"derivative_partners = {self.derivative_partners} is out of range: "
-                                 "must be >= 0 (and <= modes)")
-        if self.derivative_modes is not None:
-            if self.model != "reduced-nonlinear":
-                raise ValueError(f"derivative_modes = {self.derivative_modes} is only for the "
-                                 f"reduced-nonlinear model, not {self.model!r}")
-            if as_int("derivative_modes", self.derivative_modes) < 0:
-                raise ValueError(f"derivative_modes = {self.derivative_modes} is out of range: "
-                                 "must be >= 0 (and <= modes)")
+                raise ValueError(f"{name} = {value} is only for the reduced-nonlinear model, "
+                                 f"not {self.model!r}")
+            if as_int(name, value) < 0:
+                raise ValueError(f"{name} = {value} is out of range: must be >= 0 (and <= modes)")
         if self.tolerance is not None:
             tol = as_float("tolerance", self.tolerance)
             if not (math.isfinite(tol) and tol > 0):
