@@ -104,7 +104,8 @@ class Checkpoint:
 
     def _header(self) -> dict:
         return {"model": self.model_id, "t": self.t, "dt": self.dt, "scheme": _scheme_spec(self.scheme),
-                "tolerance": self.tolerance, "newton_tolerance": self.newton_tolerance, "energy0": self.energy0, "kinetic_peak": self.kinetic_peak}
+                "tolerance": self.tolerance, "newton_tolerance": self.newton_tolerance,
+                "energy0": self.energy0, "kinetic_peak": self.kinetic_peak}
 
     def to_bytes(self) -> bytes:
         """The file's content (see :meth:`save`)."""

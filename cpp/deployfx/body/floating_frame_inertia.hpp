@@ -62,7 +62,7 @@ class FloatingFrameInertia {
   /// same z, so the integrals at one d share one set (a Newton iteration asks for them at one d in
   /// its residual, momentum, matrix and momentum Jacobian). Per-run data (multibody::Data), never
   /// shared between runs: the model stays immutable and runs on it independent. A slot's storage
-  /// is reused for the next z once nothing else holds it: a run allocates none after its start.
+  /// is reused for the next z once nothing else holds it: a run allocates only its first few sets.
   class ProductsMemo {
    private:
     friend class FloatingFrameInertia;
