@@ -18,7 +18,7 @@ import deployfx as dfx
 from deployfx import _core
 from deployfx.contact import ContactLaw, Friction
 from deployfx.integrators import GeneralizedAlpha
-from deployfx.model import rigid_appendage
+from deployfx.specs import rigid_appendage
 from deployfx.specs import RigidPart
 
 from test_hinged_system import B_H, J_BASE, K_THETA, M_BASE, P_HINGE, TAU0, W, Ry, make_system

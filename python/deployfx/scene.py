@@ -220,7 +220,7 @@ class Scene:
     def compile(self, description: Optional[dict] = None):
         """Check and build the immutable :class:`~deployfx.model.Model` (ValueError names any bad
         parameter). ``description``: JSON-compatible notes kept in every result's metadata."""
-        from .model import compile_model
+        from ._compile import compile_model
 
         if self._base is None:
             raise ValueError("the scene has no base: call set_base() first")

@@ -19,7 +19,7 @@ from .contact import ContactLaw, Friction
 from .plate import ShellModel
 from .strengths import Strengths
 
-__all__ = ["Fidelity", "RigidPart", "Base", "SpinUp", "Hinge", "Appendage", "Lock", "Link"]
+__all__ = ["Fidelity", "RigidPart", "rigid_appendage", "Base", "SpinUp", "Hinge", "Appendage", "Lock", "Link"]
 
 
 class Fidelity(str, enum.Enum):
@@ -328,3 +328,14 @@ class Link:
     parts: tuple = ()
     appendage: Optional[Appendage] = None
     lock: Optional[Any] = None
+
+
+def rigid_appendage(shell: ShellModel) -> RigidPart:
+    """The undeformed mesh of a :class:`~deployfx.ShellModel` as one rigid body in its frame:
+    mass (kg), centre of mass (m) and inertia about it (kg m^2), from its floating-frame shape
+    integrals (the mass, first moment S0 and inertia J0 about the frame's origin; parallel axes)."""
+    ffi = shell.floating_frame_inertia()
+    m = float(ffi.mass)
+    c = np.asarray(ffi.S0) / m
+    J = np.asarray(ffi.J0) - m * (c @ c * np.eye(3) - np.outer(c, c))
+    return RigidPart.make("appendage", m, c, 0.5 * (J + J.T))
