@@ -53,8 +53,6 @@ or altered file with a ValueError naming it. Files written before the checksum (
 from __future__ import annotations
 
 import copy
-import hashlib
-import json
 import keyword
 import math
 import os
@@ -63,16 +61,11 @@ from typing import Any, Mapping, Optional, Union
 
 import numpy as np
 
-from . import _atomic, metrics
+from . import _result_file, metrics
 from .metrics import _as_time
 
 PathLike = Union[str, os.PathLike]
 
-_FORMAT = "deployfx.Result"
-_VERSION = 1
-_HEADER = "deployfx_header"  # archive entry of the JSON header
-_PREFIX = "series/"  # archive entries of the arrays; never collides with np.savez's parameters
-_CHECKSUM = "deployfx_sha256"  # the last archive entry: SHA-256 of the header and the series
 
 #: The series with one column per hinge ((n, H, ...)): Result.hinge(k) takes column k.
 PER_HINGE_SERIES = ("deployment_angle", "deployment_rate", "spring_torque", "lock_force", "lock_torque", "latched",
@@ -204,15 +197,7 @@ class Result:
         Arrays are stored as they are (lossless); units, metadata and the series order as a JSON
         header inside the archive. Nothing is pickled.
         """
-        header = json.dumps({"format": _FORMAT, "version": _VERSION, "series": list(self._series),
-                             "units": self._units, "metadata": self._metadata,
-                             "checksum": "sha256"}, allow_nan=False)
-        path = Path(path)
-        entries = {_PREFIX + name: a for name, a in self._series.items()}
-        digest = _digest(header, self._series)
-        with _atomic.atomic_open(path, "wb") as fh:
-            np.savez(fh, **{_HEADER: np.array(header)}, **entries, **{_CHECKSUM: np.array(digest)})
-        return path
+        return _result_file.write(Path(path), self._series, self._units, self._metadata)
 
     def to_dataframe(self):
         """A pandas DataFrame indexed by ``t`` (s), one column per scalar series; vector series
@@ -468,71 +453,11 @@ def load(path: PathLike) -> Result:
     """Read a :class:`Result` written by :meth:`Result.save` (arrays bit for bit, same units,
     metadata and series order). Refuses pickled content, and raises ValueError naming the file
     for one that is truncated, altered (its SHA-256 does not match) or not a result file."""
-    # The file is opened here, not by np.load, which leaks its handle on a broken archive.
-    with open(Path(path), "rb") as fh:
-        # Whatever a damaged archive raises inside zipfile or numpy (BadZipFile, EOFError,
-        # NotImplementedError for a garbled compression method, struct.error, ...) is the file's
-        # fault: a ValueError naming it, with the cause chained.
-        try:
-            archive = np.load(fh, allow_pickle=False)
-        except Exception as e:  # noqa: BLE001
-            raise ValueError(f"{path} is not a readable deployfx result file: "
-                             f"{type(e).__name__}: {e}") from e
-        if not isinstance(archive, np.lib.npyio.NpzFile):
-            raise ValueError(f"{path} is not a deployfx result file (a bare .npy array, not an "
-                             "archive)")
-        try:
-            with archive:
-                header, series = _read_archive(archive, path)
-        except Exception as e:  # noqa: BLE001 - see above
-            if isinstance(e, ValueError) and str(e).startswith(str(path)):
-                raise
-            raise ValueError(f"{path} is truncated or corrupted: {type(e).__name__}: {e}") from e
+    series, units, metadata = _result_file.read(path)
     try:
-        return Result(series, header["units"], header["metadata"])
+        return Result(series, units, metadata)
     except (ValueError, TypeError) as e:
         raise ValueError(f"{path}: {e}") from e
-
-
-def _read_archive(archive, path) -> tuple[dict, dict]:
-    """The header and the series of an open result archive, checked against its checksum."""
-    if _HEADER not in archive.files:
-        raise ValueError(f"{path} is not a deployfx result file (no {_HEADER} entry)")
-    text = str(archive[_HEADER])
-    header = json.loads(text)
-    if not isinstance(header, dict) or header.get("format") != _FORMAT or \
-            not isinstance(header.get("version"), int):
-        raise ValueError(f"{path} is not a deployfx result file (format "
-                         f"{header.get('format') if isinstance(header, dict) else header!r})")
-    if header["version"] > _VERSION:
-        raise ValueError(f"{path} has result format version {header['version']}; this deployfx "
-                         f"reads up to version {_VERSION}")
-    names, units, metadata = header.get("series"), header.get("units"), header.get("metadata")
-    if not (isinstance(names, list) and all(isinstance(n, str) for n in names)
-            and isinstance(units, dict) and isinstance(metadata, dict)):
-        raise ValueError(f"{path} has a malformed header (series, units, metadata)")
-    missing = [name for name in names if _PREFIX + name not in archive.files]
-    if missing:
-        raise ValueError(f"{path} is missing the series {missing}")
-    series = {name: archive[_PREFIX + name] for name in names}
-    checksum = header.get("checksum")
-    if checksum is not None:  # files written before the checksum have none
-        if checksum != "sha256" or _CHECKSUM not in archive.files:
-            raise ValueError(f"{path} is truncated or corrupted: its header announces a "
-                             f"{checksum!r} checksum and the {_CHECKSUM} entry is missing")
-        if str(archive[_CHECKSUM]) != _digest(text, series):
-            raise ValueError(f"{path} is corrupted: its content does not match its SHA-256 "
-                             f"checksum (altered after it was saved)")
-    return header, series
-
-
-def _digest(header: str, series: Mapping[str, np.ndarray]) -> str:
-    """SHA-256 (hex) of the header text and of every series' name, dtype, shape and bytes."""
-    h = hashlib.sha256(header.encode("utf-8"))
-    for name, a in series.items():
-        h.update(json.dumps([name, a.dtype.str, list(a.shape)]).encode("utf-8"))
-        h.update(np.ascontiguousarray(a).view(np.uint8).reshape(-1).data if a.size else b"")
-    return h.hexdigest()
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:
