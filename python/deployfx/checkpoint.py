@@ -3,8 +3,8 @@ so that a run resumed from one is bit-identical to the uninterrupted run.
 
 ``Model.simulate(..., checkpoint_at=[t1, ...])`` takes a :class:`Checkpoint` at the end of each
 listed output instant (``result.checkpoints``); ``Model.resume(checkpoint, t_end)`` (or
-``simulate(..., resume=checkpoint)``) goes on from it with the checkpointed run's dt, scheme and
-tolerance. A checkpoint holds the state (q, v), the integrator's accelerations and its predictor's
+``simulate(..., resume=checkpoint)``) goes on from it with the checkpointed run's dt, scheme,
+tolerance and Newton tolerance. A checkpoint holds the state (q, v), the integrator's accelerations and its predictor's
 history, the step control's next sizes, the lock histories (contact modes, impact trackers) and
 the impact records so far, the energy check's baseline, and the model's fingerprint; and the
 integrator's Newton matrix as last built, factorized afresh on resuming, so that the modified
@@ -148,6 +148,47 @@ class Checkpoint:
 
     def __reduce__(self):
         return (Checkpoint.from_bytes, (self.to_bytes(),))
+
+
+def check_resume(model, resume, *, dt: float, scheme, tolerance: float, newton_tolerance: float, t_end: float,
+                 q0, v0) -> None:
+    """ValueError or TypeError unless ``resume`` can continue a run of ``model`` with these settings
+    (the checkpointed run's), from its time to ``t_end`` (s), taking no q0, v0."""
+    if not isinstance(resume, Checkpoint):
+        raise TypeError(f"resume must be a deployfx Checkpoint, got {type(resume).__name__}")
+    if q0 is not None or v0 is not None:
+        raise ValueError("resume: q0 and v0 are the checkpoint's; do not pass them")
+    if resume.model_id != model.fingerprint:
+        raise ValueError("resume: the checkpoint was taken on another model (its fingerprint differs)")
+    if dt != resume.dt:
+        raise ValueError(f"resume: dt = {dt:g} s, but the checkpoint's run had dt = {resume.dt:g} s")
+    if _scheme_spec(scheme) != _scheme_spec(resume.scheme):
+        raise ValueError(f"resume: scheme = {scheme!r}, but the checkpoint's run had {resume.scheme!r}")
+    if tolerance != resume.tolerance:
+        raise ValueError(f"resume: tolerance = {tolerance or None}, but the checkpoint's run had "
+                         f"{resume.tolerance or None}")
+    if newton_tolerance != resume.newton_tolerance:
+        raise ValueError(f"resume: newton_tolerance = {newton_tolerance:g}, but the checkpoint's run had "
+                         f"{resume.newton_tolerance:g}")
+    if not t_end >= resume.t:
+        raise ValueError(f"t_end = {t_end:g} s is out of range: must be >= the checkpoint's t = {resume.t:g} s")
+    resume._core.check(model.core)
+
+
+def from_run(model, raw: dict, *, dt: float, scheme, tolerance: float, newton_tolerance: float, baseline) -> tuple:
+    """The checkpoints the engine took in a run of ``model`` (``raw``: its dict), with the run's
+    settings and the energy check's baseline up to each (``baseline``: a resumed run's)."""
+    if not raw["checkpoints"]:
+        return ()
+    E = raw["kinetic_energy"] + raw["potential_energy"]
+    out = []
+    for c in raw["checkpoints"]:
+        i = int(np.flatnonzero(raw["t"] == c.t)[-1])
+        peak = float(np.max(raw["kinetic_energy"][: i + 1]))
+        e0, peak = (float(E[0]), peak) if baseline is None else (baseline[0], max(baseline[1], peak))
+        out.append(Checkpoint(c, model_id=model.fingerprint, dt=dt, scheme=scheme, tolerance=tolerance,
+                              newton_tolerance=newton_tolerance, energy0=e0, kinetic_peak=peak))
+    return tuple(out)
 
 
 def load_checkpoint(path: Union[str, os.PathLike]) -> Checkpoint:

@@ -322,7 +322,8 @@ class Model:
         t_end, dt, tol, scheme = _run_arguments(t_end, dt, scheme, tolerance)
         newton_tol = newton_tolerance_arg(newton_tolerance)
         if resume is not None:
-            self._check_resume(resume, dt, scheme, tol, newton_tol, t_end, q0, v0)
+            _checkpoint.check_resume(self, resume, dt=dt, scheme=scheme, tolerance=tol,
+                                     newton_tolerance=newton_tol, t_end=t_end, q0=q0, v0=v0)
         steps = _checkpoint._steps(checkpoint_at, t_end, dt, resume)
         stressed = self._stressed_panels() if stresses else []
         if resume is not None:
@@ -337,7 +338,8 @@ class Model:
             should_stop=should_stop, data=data, checkpoint_steps=steps,
             resume=None if resume is None else resume._core), t_end, progress)
         baseline = None if resume is None else (resume.energy0, resume.kinetic_peak)
-        checkpoints = self._checkpoints(raw, dt, scheme, tol, newton_tol, baseline)
+        checkpoints = _checkpoint.from_run(self, raw, dt=dt, scheme=scheme, tolerance=tol,
+                                           newton_tolerance=newton_tol, baseline=baseline)
         out = self._series(raw)
         for k, idx in node_sets.items():
             out[f"node_displacements_{k}"] = self.node_displacements(raw["q"], k, idx)
@@ -396,42 +398,6 @@ class Model:
     def fingerprint(self) -> str:
         """SHA-256 identifying the compiled model (deployfx.checkpoint.model_fingerprint)."""
         return _checkpoint.model_fingerprint(self)
-
-    def _check_resume(self, resume, dt: float, scheme, tol: float, newton_tol: float, t_end: float, q0,
-                      v0) -> None:
-        if not isinstance(resume, _checkpoint.Checkpoint):
-            raise TypeError(f"resume must be a deployfx Checkpoint, got {type(resume).__name__}")
-        if q0 is not None or v0 is not None:
-            raise ValueError("resume: q0 and v0 are the checkpoint's; do not pass them")
-        if resume.model_id != self.fingerprint:
-            raise ValueError("resume: the checkpoint was taken on another model (its fingerprint differs)")
-        if dt != resume.dt:
-            raise ValueError(f"resume: dt = {dt:g} s, but the checkpoint's run had dt = {resume.dt:g} s")
-        if _checkpoint._scheme_spec(scheme) != _checkpoint._scheme_spec(resume.scheme):
-            raise ValueError(f"resume: scheme = {scheme!r}, but the checkpoint's run had {resume.scheme!r}")
-        if tol != resume.tolerance:
-            raise ValueError(f"resume: tolerance = {tol or None}, but the checkpoint's run had "
-                             f"{resume.tolerance or None}")
-        if newton_tol != resume.newton_tolerance:
-            raise ValueError(f"resume: newton_tolerance = {newton_tol:g}, but the checkpoint's run had "
-                             f"{resume.newton_tolerance:g}")
-        if not t_end >= resume.t:
-            raise ValueError(f"t_end = {t_end:g} s is out of range: must be >= the checkpoint's t = {resume.t:g} s")
-        resume._core.check(self.core)
-
-    def _checkpoints(self, raw: dict, dt: float, scheme, tol: float, newton_tol: float, baseline) -> tuple:
-        """The run's checkpoints with their settings and the energy check's baseline up to each."""
-        if not raw["checkpoints"]:
-            return ()
-        E = raw["kinetic_energy"] + raw["potential_energy"]
-        out = []
-        for c in raw["checkpoints"]:
-            i = int(np.flatnonzero(raw["t"] == c.t)[-1])
-            peak = float(np.max(raw["kinetic_energy"][: i + 1]))
-            e0, peak = (float(E[0]), peak) if baseline is None else (baseline[0], max(baseline[1], peak))
-            out.append(_checkpoint.Checkpoint(c, model_id=self.fingerprint, dt=dt, scheme=scheme, tolerance=tol,
-                                              newton_tolerance=newton_tol, energy0=e0, kinetic_peak=peak))
-        return tuple(out)
 
     def _stressed_panels(self) -> list:
         """The hinges whose deforming panel has strengths; ValueError if there is none."""
