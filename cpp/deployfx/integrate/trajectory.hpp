@@ -60,6 +60,8 @@ struct DriverState {
   long k = 0;                 ///< the output step just completed
   double h_try = 0;           ///< s, the error control's next step
   double h_contact = 0;       ///< s, the next step while a contact is resolved
+  /// The last resolved contact's step bounds, kept until the steps are back at dt (run()).
+  SecondOrderSystem::StepBounds contact_bounds;
   GeneralizedAlpha::Solver solver;  ///< the integrator's Newton matrix and reuse counter
 };
 

@@ -20,6 +20,8 @@ void check_checkpoint(const Model& m, const Checkpoint& c) {
   if (s.vdot.size() != nv || s.a.size() != nv || s.base_accel.size() > nv ||
       (s.vdot_prev.size() != 0 && s.vdot_prev.size() != nv) || c.accepted_q.size() != s.q.size())
     fail("its accelerations' sizes do not fit this model");
+  if (c.driver.contact_bounds.error.size() != 0 && c.driver.contact_bounds.error.size() != nv)
+    fail("its contact step bounds do not fit this model");
   if (c.locks.size() != static_cast<std::size_t>(m.num_hinges())) fail("it holds another number of hinges");
   const Data fresh(m);  // the lock kinds this model's histories take
   for (std::size_t k = 0; k < c.locks.size(); ++k)
@@ -56,7 +58,7 @@ void check_checkpoint(const Model& m, const Checkpoint& c) {
 // machine's representation (a checkpoint resumes on the machine kind that wrote it).
 namespace {
 
-constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '2'};
+constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '3'};
 
 struct Writer {
   std::string out;
@@ -169,6 +171,7 @@ std::string Checkpoint::to_bytes() const {
   w.put(s.q), w.put(s.v), w.put(s.vdot), w.put(s.a), w.put(s.base_accel), w.put(s.vdot_prev);
   w.put(s.h_prev);
   w.put(driver.t0), w.put(static_cast<std::int64_t>(driver.k)), w.put(driver.h_try), w.put(driver.h_contact);
+  w.put(driver.contact_bounds.error), w.put(driver.contact_bounds.min_step);
   const integrate::GeneralizedAlpha::Solver& solver = driver.solver;
   w.put(static_cast<std::int32_t>(solver.full_steps)), w.put(solver.h);
   w.put(solver.S.A), w.put(solver.S.B), w.put(solver.S.C), w.put(solver.S.E), w.put(solver.momentum_jacobian);
@@ -207,7 +210,8 @@ Checkpoint Checkpoint::from_bytes(const std::string& bytes) {
   r.get(s.h_prev);
   std::int64_t k = 0;
   std::int32_t full = 0;
-  r.get(c.driver.t0), r.get(k), r.get(c.driver.h_try), r.get(c.driver.h_contact), r.get(full);
+  r.get(c.driver.t0), r.get(k), r.get(c.driver.h_try), r.get(c.driver.h_contact);
+  r.get(c.driver.contact_bounds.error), r.get(c.driver.contact_bounds.min_step), r.get(full);
   c.driver.k = static_cast<long>(k);
   integrate::GeneralizedAlpha::Solver& solver = c.driver.solver;
   solver.full_steps = full;

@@ -1,9 +1,11 @@
 #include "deployfx/multibody/events.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <vector>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -27,14 +29,25 @@ Eigen::VectorXd lock_events(const Model& m, const Data& d, const Eigen::VectorXd
   return g;
 }
 
-double hinge_inverse_inertia(const Model& m, Data& d, const Eigen::VectorXd& q, double t, int k) {
+HingeInverseInertia hinge_inverse_inertia(const Model& m, Data& d, const Eigen::VectorXd& q, double t, int k) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(m.num_velocities());
+  const integrate::BlockMatrix M = newton_matrix(m, d, q, zero, zero, t, 1.0, 0.0, 0.0);
   integrate::BorderedSolver solver;
-  if (!solver.factorize(newton_matrix(m, d, q, zero, zero, t, 1.0, 0.0, 0.0)))
-    throw std::runtime_error("the mass matrix is singular at t = " + std::to_string(t) + " s");
+  if (!solver.factorize(M)) throw std::runtime_error("the mass matrix is singular at t = " + std::to_string(t) + " s");
+  const int i = m.body(k).iv_theta;
   Eigen::VectorXd e = zero;
-  e(m.body(k).iv_theta) = 1.0;
-  return solver.solve(e)(m.body(k).iv_theta);
+  e(i) = 1.0;
+  HingeInverseInertia out;
+  out.free = solver.solve(e)(i);
+  // The border holds the base and the hinges, the elastic block every panel's coordinates: the
+  // border's own block is the mass matrix with the panels' deformation rates held at zero.
+  out.rigid = out.free;
+  if (i < M.border()) {
+    Eigen::VectorXd eb = Eigen::VectorXd::Unit(M.border(), i);
+    const Eigen::VectorXd x = M.A.partialPivLu().solve(eb);
+    if (std::isfinite(x(i)) && x(i) > 0) out.rigid = x(i);
+  }
+  return out;
 }
 
 void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t,
@@ -50,16 +63,27 @@ void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::Vect
     std::vector<char> was(static_cast<std::size_t>(contacts));
     for (int c = 0; c < contacts; ++c) was[c] = joint::contact_state(lock, h, c, theta, rate).contact;
     joint::update(lock, h, theta, rate, margin.size() ? margin.data() + i : nullptr);
-    double inverse_inertia = -1;  // e^T M^-1 e, once per accepted step at most
+    std::optional<HingeInverseInertia> inverse_inertia;  // once per accepted step at most
     for (int c = 0; c < contacts; ++c) {
       const joint::WallState w = joint::contact_state(lock, h, c, theta, rate);
       if (w.contact && !was[c]) {
         // A contact closes: the pin's effective mass along its normal, 1 / (lever^2 e^T M^-1 e),
-        // and the impact's time scale.
-        if (inverse_inertia < 0) inverse_inertia = hinge_inverse_inertia(m, d, q, t, k);
+        // and the impact's time scale. On a deforming panel that mass is the fitting's and the
+        // root's, which a damped law (the paper's D) stops within m / D: no rebound of the pin
+        // alone to resolve (rebound_time_scale 0). The panel behind it still rebounds on the
+        // wall's Hertz stiffness, over the time scale of the hinge's inertia with the panel held
+        // rigid (the paper's panel: 6 ms at the first lock's 33 mm/s, against the pin's m/D =
+        // 22 us): that contact is resolved. Stepped over at dt instead (omega h ~ 1 at the
+        // latch's 1e3 N), the undamped rattle on the walls pumped energy into the panel on one
+        // trajectory in ten, and the damped scene's node E was 4e-3 off (issue 29,
+        // docs/research/undamped-stability.md).
+        if (!inverse_inertia) inverse_inertia = hinge_inverse_inertia(m, d, q, t, k);
         const double lever = joint::contact_lever(lock, h, c, theta);
-        const double mass = 1.0 / (lever * lever * inverse_inertia);
-        joint::contact_time_scale(h, c) = contact::rebound_time_scale(joint::law(lock), mass, joint::contact_v0(h, c));
+        const double v0 = joint::contact_v0(h, c);
+        double T = contact::rebound_time_scale(joint::law(lock), 1.0 / (lever * lever * inverse_inertia->free), v0);
+        if (!(T > 0))
+          T = contact::rebound_time_scale(joint::law(lock), 1.0 / (lever * lever * inverse_inertia->rigid), v0);
+        joint::contact_time_scale(h, c) = T;
       }
       joint::contact_tracker(h, c).observe(k, c, w.contact, t, w.F, w.delta, w.delta_dot, d.impacts);
     }

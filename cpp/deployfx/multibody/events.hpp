@@ -15,14 +15,19 @@ namespace deployfx::multibody {
 Eigen::VectorXd lock_events(const Model& m, const Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v);
 /// Updates d's lock histories after an accepted step ending at (q, v, t); an event function at or
 /// below its `margin` (lock_events' order; empty: 0) switches. A wall that closes gets its
-/// penetration scale from the pin's effective mass there (hinge_inverse_inertia); every wall's
+/// time scale from the pin's effective mass there, or where the law's dashpot stops the pin
+/// alone, from the hinge's with the panels held rigid (hinge_inverse_inertia); every wall's
 /// contact is followed into d.impacts (joint/impact_record.hpp).
 void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t,
             const Eigen::VectorXd& margin = Eigen::VectorXd());
-/// e^T M(q)^-1 e for hinge k's rate: the inverse of the hinge's effective inertia (1/(kg m^2))
-/// against an impulse about its axis with every other coordinate free (the mass matrix, dr/da).
-/// On a deforming panel that is the fitting's and the root's, far below the panel's.
-double hinge_inverse_inertia(const Model& m, Data& d, const Eigen::VectorXd& q, double t, int k);
+/// The inverse of hinge k's effective inertia (1/(kg m^2)) against an impulse about its axis:
+/// `free`, e^T M(q)^-1 e with every other coordinate free (the mass matrix, dr/da; on a deforming
+/// panel that is the fitting's and the root's, far below the panel's), and `rigid`, the same with
+/// every panel's deformation rates held at zero (the mass matrix's border block).
+struct HingeInverseInertia {
+  double free = 0, rigid = 0;
+};
+HingeInverseInertia hinge_inverse_inertia(const Model& m, Data& d, const Eigen::VectorXd& q, double t, int k);
 /// integrate::SecondOrderSystem::step_bounds at the last accepted state: on each hinge angle whose
 /// lock has a contact being resolved, joint::resolution's error (rad); empty with none.
 integrate::SecondOrderSystem::StepBounds step_bounds(const Model& m, const Data& d);
