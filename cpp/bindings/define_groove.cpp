@@ -140,7 +140,9 @@ void define_groove(py::module_& m) {
       .def_readwrite("closed", &FacetContact::closed, "In contact: the law is used without its clamp.")
       .def_readwrite("inside", &FacetContact::inside, "Open, but within the compliant layer at the last accepted state.")
       .def_readwrite("v0", &FacetContact::v0, "Approach speed at onset, m/s (at least 1 mm/s).")
-      .def_readwrite("T", &FacetContact::T, "Impact time scale of the contact in progress, s (set by the engine).");
+      .def_readwrite("T", &FacetContact::T, "Impact time scale of the contact in progress, s (set by the engine).")
+      .def_readwrite("resolution", &FacetContact::resolution,
+                     "The fraction of v0 T a step's local error may make while the contact lasts (set with T).");
 
   py::class_<PinGrooveHistory>(m, "PinGrooveHistory", "What a pin-groove lock remembers between steps.")
       .def(py::init<>())

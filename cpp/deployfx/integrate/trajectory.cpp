@@ -166,8 +166,8 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
         } else {
           h_contact = h;
         }
-        const Eigen::VectorXd g0 = sys.gaps(s.q, s.v, s.t);
-        const double G1 = first_switch(g0, sys.gaps(trial.q, trial.v, trial.t));
+        const Eigen::VectorXd g0 = sys.gaps(s.q, s.v, s.t), g1 = sys.gaps(trial.q, trial.v, trial.t);
+        const double G1 = first_switch(g0, g1);
         if (G1 > 0) {
           s = std::move(trial);
           s.t = std::abs(s.t - target) < 1e-12 * std::max(1.0, std::abs(target)) ? target : s.t;
@@ -232,7 +232,8 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
         // simultaneous to round-off (symmetric contacts) must not part by a tiny step.
         Eigen::VectorXd margin = Eigen::VectorXd::Zero(g0.size());
         for (Eigen::Index i = 0; i < g0.size(); ++i)
-          if (g0(i) > 0 && std::isfinite(g0(i))) margin(i) = kEventTolerance * g0(i);
+          if (g0(i) > 0 && std::isfinite(g0(i)))
+            margin(i) = kEventTolerance * std::max(g0(i), std::isfinite(g1(i)) ? std::abs(g1(i) - g0(i)) : 0.0);
         sys.accept(s.q, s.v, s.t, margin);
         // A contact to resolve starts here: its first step is the shortest worth taking (a
         // hundredth of the impact's time scale). The law may jump at onset (the paper's, to

@@ -66,13 +66,13 @@ void wall_states(const HingeLockSpec& lock, const LockHistory& h, double theta, 
 
 ContactResolution contact_resolution(const LockHistory& h) {
   ContactResolution out{std::numeric_limits<double>::infinity(), 0.0};
-  auto add = [&](bool contact, double T, double v0) {
+  auto add = [&](bool contact, double T, double v0, double resolution) {
     if (!contact || !(T > 0)) return;
-    out.error = std::min(out.error, kContactResolution * v0 * T);
+    out.error = std::min(out.error, resolution * v0 * T);
     out.min_step = out.min_step > 0 ? std::min(out.min_step, T / kMaxStepsPerImpactTime) : T / kMaxStepsPerImpactTime;
   };
-  add(h.stop_contact, h.stop_T, h.stop_v0);
-  add(h.latch_contact, h.latch_T, h.latch_v0);
+  add(h.stop_contact, h.stop_T, h.stop_v0, h.stop_resolution);
+  add(h.latch_contact, h.latch_T, h.latch_v0, h.latch_resolution);
   return out;
 }
 

@@ -31,6 +31,18 @@ struct HingeLockSpec {
   double theta_latch() const { return theta_lock - clearance / pin_radius; }
 };
 
+/// Fraction of a contact's penetration scale v0 T that a step's local error may reach: at 1e-3
+/// every law's restitution comes within 1 % of its closed form at any output step from 1e-3 to
+/// 0.05 s, about 50 steps a contact (tests/test_lock_accuracy.py).
+inline constexpr double kContactResolution = 1e-3;
+/// The same for the panel behind a pin the law's dashpot stops alone (its T from the hinge's
+/// inertia with the panels held rigid; multibody/events.cpp): at 1e-2 the damped paper scene's
+/// largest tip displacement is within 0.1 mm of a run at dt = 0.25 ms (1e-3: 0.19 mm; stepped
+/// over at dt: 1.47 mm) for 1.15x the CPU of stepping over it (1e-3: 1.6-2.5x), and no undamped
+/// trajectory of the rattle gains energy (issue 29, docs/research/undamped-stability.md).
+inline constexpr double kPanelContactResolution = 1e-2;
+inline constexpr double kMaxStepsPerImpactTime = 100.0;
+
 /// What the lock remembers between steps (a run's Data): the latch and each wall's contact,
 /// with the approach speed at onset (the Hunt-Crossley family needs it).
 struct LockHistory {
@@ -41,11 +53,13 @@ struct LockHistory {
   /// gap closes (lock_events).
   bool stop_inside = false, latch_inside = false;
   double stop_v0 = 0, latch_v0 = 0;  ///< approach speed at onset, m/s (at least 1 mm/s)
-  /// The impact time scale T of each wall's contact in progress, s (contact::impact_time_scale
-  /// of the pin's effective mass at onset; 0 while open, and for a plastic impact, which has no
-  /// rebound to resolve): the stepper resolves the contact to a fraction of its penetration
-  /// scale v0 T (contact_resolution).
+  /// The time scale T of each wall's contact in progress, s (set by the engine at onset:
+  /// contact::rebound_time_scale of the pin's effective mass, or for a pin the law's dashpot
+  /// stops alone, of the hinge's with the panels held rigid; 0 while open, and where neither
+  /// rebounds): the stepper resolves the contact to the fraction `*_resolution` of its
+  /// penetration scale v0 T (contact_resolution).
   double stop_T = 0, latch_T = 0;
+  double stop_resolution = kContactResolution, latch_resolution = kContactResolution;
   ImpactTracker stop_track, latch_track;  ///< the walls' impact records
 };
 
@@ -68,18 +82,13 @@ LockLoad lock_load(const HingeLockSpec& lock, const LockHistory& history, double
 void wall_states(const HingeLockSpec& lock, const LockHistory& history, double theta, double rate, WallState* stop,
                  WallState* latch);
 /// How finely a step in contact must go: the local displacement error (m, of the pin along the
-/// wall's normal) it may make, kContactResolution v0 T, and the shortest step worth taking,
+/// wall's normal) it may make, its resolution times v0 T, and the shortest step worth taking,
 /// T / kMaxStepsPerImpactTime (s), the smallest of each over the walls in contact whose impact
 /// rebounds; +inf and 0 with none.
 struct ContactResolution {
   double error = 0, min_step = 0;
 };
 ContactResolution contact_resolution(const LockHistory& history);
-/// Fraction of a contact's penetration scale v0 T that a step's local error may reach: at 1e-3
-/// every law's restitution comes within 1 % of its closed form at any output step from 1e-3 to
-/// 0.05 s, about 50 steps a contact (tests/test_lock_accuracy.py).
-inline constexpr double kContactResolution = 1e-3;
-inline constexpr double kMaxStepsPerImpactTime = 100.0;
 /// The event functions of the two walls (stop, latch), positive while their modes hold: an open
 /// wall's gap (m), or for a pin within the layer the force the wall would push with, negated
 /// (N); a closed wall's normal force (N); the latch's is +inf until latched. Each is continuous

@@ -84,9 +84,14 @@ double contact_v0(const LockState& state, int i) {
   return std::get<PinGrooveHistory>(state).facets[static_cast<std::size_t>(i)].v0;
 }
 
-double& contact_time_scale(LockState& state, int i) {
-  if (auto* h = std::get_if<LockHistory>(&state)) return i == kStop ? h->stop_T : h->latch_T;
-  return std::get<PinGrooveHistory>(state).facets[static_cast<std::size_t>(i)].T;
+void set_contact_scale(LockState& state, int i, double T, double resolution) {
+  if (auto* h = std::get_if<LockHistory>(&state)) {
+    (i == kStop ? h->stop_T : h->latch_T) = T;
+    (i == kStop ? h->stop_resolution : h->latch_resolution) = resolution;
+    return;
+  }
+  FacetContact& f = std::get<PinGrooveHistory>(state).facets[static_cast<std::size_t>(i)];
+  f.T = T, f.resolution = resolution;
 }
 
 ImpactTracker& contact_tracker(LockState& state, int i) {

@@ -39,10 +39,11 @@ WallState contact_state(const LockSpec& lock, const LockState& state, int i, dou
 /// d delta / d theta of contact i (m/rad): the pin's effective mass along its normal is
 /// 1 / (lever^2 e^T M^-1 e).
 double contact_lever(const LockSpec& lock, const LockState& state, int i, double theta);
-/// Contact i's approach speed at onset (m/s), its impact time scale (s; set by the engine at
-/// onset) and its impact tracker.
+/// Contact i's approach speed at onset (m/s), its time scale T (s) and resolution (the fraction of
+/// v0 T a step's local error may make: contact_resolution), set by the engine at onset, and its
+/// impact tracker.
 double contact_v0(const LockState& state, int i);
-double& contact_time_scale(LockState& state, int i);
+void set_contact_scale(LockState& state, int i, double T, double resolution);
 ImpactTracker& contact_tracker(LockState& state, int i);
 /// The contact law (every contact of a lock has the same).
 const contact::ContactLaw& law(const LockSpec& lock);

@@ -42,8 +42,10 @@ PinGrooveSpec stop_latch_groove(const HingeLockSpec& lock, double rho, double pi
 PinGrooveHistory stop_latch_history(const LockHistory& h) {
   PinGrooveHistory g;
   g.facets.resize(3);
-  g.facets[kStopFacet] = {true, h.stop_contact, h.stop_inside, h.stop_v0, h.stop_T, h.stop_track};
-  g.facets[kLatchFacet] = {h.latched, h.latch_contact, h.latch_inside, h.latch_v0, h.latch_T, h.latch_track};
+  g.facets[kStopFacet] = {true,     h.stop_contact, h.stop_inside, h.stop_v0,
+                          h.stop_T, h.stop_resolution, h.stop_track};
+  g.facets[kLatchFacet] = {h.latched, h.latch_contact, h.latch_inside, h.latch_v0,
+                           h.latch_T, h.latch_resolution, h.latch_track};
   return g;
 }
 

@@ -226,7 +226,7 @@ ContactResolution contact_resolution(const PinGrooveSpec& spec, const PinGrooveH
     const FacetContact& fc = h.facets[static_cast<std::size_t>(f)];
     if (!fc.closed || !(fc.T > 0) || f == h.support) continue;
     const double lever = std::abs(facet_lever(spec, h, f, theta));
-    if (lever > 0) out.error = std::min(out.error, kContactResolution * fc.v0 * fc.T / lever);
+    if (lever > 0) out.error = std::min(out.error, fc.resolution * fc.v0 * fc.T / lever);
     const double step = fc.T / kMaxStepsPerImpactTime;
     out.min_step = out.min_step > 0 ? std::min(out.min_step, step) : step;
   }

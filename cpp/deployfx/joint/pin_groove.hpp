@@ -79,6 +79,7 @@ struct FacetContact {
   /// engine at onset from the pin's effective mass along the facet, facet_lever; 0 while open or
   /// for a plastic impact).
   double T = 0;
+  double resolution = kContactResolution;  ///< the fraction of v0 T a step's local error may make (set with T)
   ImpactTracker track;  ///< the facet's impact records (Impact::wall = the facet's index)
 };
 
@@ -121,8 +122,8 @@ WallState facet_state(const PinGrooveSpec& spec, const PinGrooveHistory& history
 /// lock: r; here r cos D on the stop wall, -r cos D on the latch wall).
 double facet_lever(const PinGrooveSpec& spec, const PinGrooveHistory& history, int facet, double theta);
 /// joint::contact_resolution for the groove, over the closed facets with T > 0: the hinge-angle
-/// error a step may make, kContactResolution v0 T / |lever| (rad, where today's returns m and the
-/// engine divides by the pin radius), and the shortest step worth taking, T /
+/// error a step may make, the facet's resolution times v0 T / |lever| (rad, where today's returns
+/// m and the engine divides by the pin radius), and the shortest step worth taking, T /
 /// kMaxStepsPerImpactTime (s); +inf and 0 with none.
 ContactResolution contact_resolution(const PinGrooveSpec& spec, const PinGrooveHistory& history, double theta);
 

@@ -180,13 +180,14 @@ std::string Checkpoint::to_bytes() const {
     w.put(static_cast<std::int32_t>(L.index()));
     if (const auto* h = std::get_if<joint::LockHistory>(&L)) {
       w.put(h->latched), w.put(h->stop_contact), w.put(h->latch_contact), w.put(h->stop_inside),
-          w.put(h->latch_inside), w.put(h->stop_v0), w.put(h->latch_v0), w.put(h->stop_T), w.put(h->latch_T);
+          w.put(h->latch_inside), w.put(h->stop_v0), w.put(h->latch_v0), w.put(h->stop_T), w.put(h->latch_T),
+          w.put(h->stop_resolution), w.put(h->latch_resolution);
       put_tracker(w, h->stop_track), put_tracker(w, h->latch_track);
     } else {
       const auto& g = std::get<joint::PinGrooveHistory>(L);
       w.put(static_cast<std::int64_t>(g.facets.size()));
       for (const joint::FacetContact& f : g.facets) {
-        w.put(f.armed), w.put(f.closed), w.put(f.inside), w.put(f.v0), w.put(f.T);
+        w.put(f.armed), w.put(f.closed), w.put(f.inside), w.put(f.v0), w.put(f.T), w.put(f.resolution);
         put_tracker(w, f.track);
       }
       w.put(static_cast<std::int32_t>(g.support));
@@ -224,14 +225,15 @@ Checkpoint Checkpoint::from_bytes(const std::string& bytes) {
     if (kind == 0) {
       joint::LockHistory h;
       r.get(h.latched), r.get(h.stop_contact), r.get(h.latch_contact), r.get(h.stop_inside), r.get(h.latch_inside),
-          r.get(h.stop_v0), r.get(h.latch_v0), r.get(h.stop_T), r.get(h.latch_T);
+          r.get(h.stop_v0), r.get(h.latch_v0), r.get(h.stop_T), r.get(h.latch_T), r.get(h.stop_resolution),
+          r.get(h.latch_resolution);
       get_tracker(r, h.stop_track), get_tracker(r, h.latch_track);
       L = h;
     } else if (kind == 1) {
       joint::PinGrooveHistory g;
       g.facets.resize(static_cast<std::size_t>(r.count()));
       for (joint::FacetContact& f : g.facets) {
-        r.get(f.armed), r.get(f.closed), r.get(f.inside), r.get(f.v0), r.get(f.T);
+        r.get(f.armed), r.get(f.closed), r.get(f.inside), r.get(f.v0), r.get(f.T), r.get(f.resolution);
         get_tracker(r, f.track);
       }
       std::int32_t support = 0;

@@ -80,10 +80,14 @@ void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::Vect
         if (!inverse_inertia) inverse_inertia = hinge_inverse_inertia(m, d, q, t, k);
         const double lever = joint::contact_lever(lock, h, c, theta);
         const double v0 = joint::contact_v0(h, c);
-        double T = contact::rebound_time_scale(joint::law(lock), 1.0 / (lever * lever * inverse_inertia->free), v0);
-        if (!(T > 0))
-          T = contact::rebound_time_scale(joint::law(lock), 1.0 / (lever * lever * inverse_inertia->rigid), v0);
-        joint::contact_time_scale(h, c) = T;
+        const double T = contact::rebound_time_scale(joint::law(lock), 1.0 / (lever * lever * inverse_inertia->free), v0);
+        if (T > 0) {
+          joint::set_contact_scale(h, c, T, joint::kContactResolution);
+        } else {
+          const double mass = 1.0 / (lever * lever * inverse_inertia->rigid);
+          joint::set_contact_scale(h, c, contact::rebound_time_scale(joint::law(lock), mass, v0),
+                                   joint::kPanelContactResolution);
+        }
       }
       joint::contact_tracker(h, c).observe(k, c, w.contact, t, w.F, w.delta, w.delta_dot, d.impacts);
     }
