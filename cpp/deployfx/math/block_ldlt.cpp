@@ -8,11 +8,12 @@
 namespace deployfx {
 
 namespace {
-constexpr int kSize = BlockLDLT::kBlock * BlockLDLT::kBlock;  // values in a block
+constexpr int kMaxBlock = 6;  // a shell node's dofs (fem::kNodeDofs)
 }  // namespace
 
 bool BlockLDLT::analyze(const SparseMatrix& A) {
   blocks_ = 0;
+  block_ = 0;
   n_ = 0;
   if (A.rows() != A.cols() || !A.isCompressed()) return false;
   const int n = static_cast<int>(A.rows());
@@ -24,10 +25,10 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
            std::memcmp(inner + outer[c], inner + outer[d],
                        sizeof(int) * static_cast<std::size_t>(len)) == 0;
   };
-  // Groups: runs of at most kBlock consecutive dofs with one column pattern.
+  // Groups: runs of at most kMaxBlock consecutive dofs with one column pattern.
   std::vector<int> group(n), local(n), group_size;
   for (int d = 0; d < n; ++d) {
-    if (d > 0 && local[d - 1] + 1 < kBlock && same_pattern(d - 1, d)) {
+    if (d > 0 && local[d - 1] + 1 < kMaxBlock && same_pattern(d - 1, d)) {
       group[d] = group[d - 1];
       local[d] = local[d - 1] + 1;
       ++group_size.back();
@@ -38,7 +39,11 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
     }
   }
   const int ng = static_cast<int>(group_size.size());
-  if (4 * ng > n) return false;
+  // Blocks of six (whole nodes, some with held dofs) or of three (a node's in-plane dofs).
+  const int largest = *std::max_element(group_size.begin(), group_size.end());
+  const int block = 4 * ng <= n ? kMaxBlock : largest <= 3 && 2 * ng <= n ? 3 : 0;
+  if (block == 0) return false;
+  const int kSize = block * block;  // values in a block
   // The groups' graph (a group's first column holds its pattern) and its AMD ordering:
   // order[new] = old (the ordering's convention, as in CSparse's cs_amd), rank[old] = new.
   std::vector<Eigen::Triplet<double>> edges;
@@ -91,17 +96,17 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
     }
   // Where A's dofs and values go.
   dof_slot_.resize(n);
-  for (int d = 0; d < n; ++d) dof_slot_[d] = kBlock * rank[group[d]] + local[d];
+  for (int d = 0; d < n; ++d) dof_slot_[d] = block * rank[group[d]] + local[d];
   padding_.clear();
   for (int g = 0; g < ng; ++g)
-    for (int l = group_size[g]; l < kBlock; ++l)
-      padding_.push_back(kSize * 2 * rank[g] + l * (kBlock + 1));
+    for (int l = group_size[g]; l < block; ++l)
+      padding_.push_back(kSize * 2 * rank[g] + l * (block + 1));
   value_target_.assign(static_cast<std::size_t>(A.nonZeros()), -1);
   for (int c = 0; c < n; ++c)
     for (int p = outer[c]; p < outer[c + 1]; ++p) {
       const int r = inner[p];
       const int I = rank[group[r]], J = rank[group[c]];
-      const long within = local[r] + kBlock * local[c];  // column-major within the block
+      const long within = local[r] + block * local[c];  // column-major within the block
       if (I == J) {
         value_target_[p] = static_cast<long>(kSize) * 2 * J + within;
       } else if (I > J) {
@@ -114,6 +119,7 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
   values_.assign(static_cast<std::size_t>(kSize) * (2 * ng + off_rows_.size()), 0.0);
   position_.assign(ng, -1);
   n_ = n;
+  block_ = block;
   blocks_ = ng;
   return true;
 }
@@ -127,6 +133,13 @@ bool BlockLDLT::factorize(const SparseMatrix& A) {
   const double* a = A.valuePtr();
   for (std::size_t p = 0; p < value_target_.size(); ++p)
     if (value_target_[p] >= 0) values_[value_target_[p]] = a[p];
+  return block_ == kMaxBlock ? factorize_blocks<kMaxBlock>() : factorize_blocks<3>();
+}
+
+template <int kBlock>
+bool BlockLDLT::factorize_blocks() {
+  constexpr int kSize = kBlock * kBlock;
+  using Block = Eigen::Matrix<double, kBlock, kBlock>;
   double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
   using Map = Eigen::Map<Block>;
   using ConstMap = Eigen::Map<const Block>;
@@ -158,8 +171,10 @@ bool BlockLDLT::factorize(const SparseMatrix& A) {
   return true;
 }
 
-template <class Rhs>
+template <int kBlock, class Rhs>
 void BlockLDLT::solve_in_place(Rhs& X) const {
+  constexpr int kSize = kBlock * kBlock;
+  using Block = Eigen::Matrix<double, kBlock, kBlock>;
   const double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
   using ConstMap = Eigen::Map<const Block>;
   for (int j = 0; j < blocks_; ++j) {  // L y = b, by columns (unit diagonal)
@@ -177,10 +192,18 @@ void BlockLDLT::solve_in_place(Rhs& X) const {
   }
 }
 
+template <class Rhs>
+void BlockLDLT::solve_padded(Rhs& X) const {
+  if (block_ == kMaxBlock)
+    solve_in_place<kMaxBlock>(X);
+  else
+    solve_in_place<3>(X);
+}
+
 Eigen::VectorXd BlockLDLT::solve(const Eigen::VectorXd& b) const {
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(kBlock) * blocks_);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block_) * blocks_);
   for (int d = 0; d < n_; ++d) x(dof_slot_[d]) = b(d);
-  solve_in_place(x);
+  solve_padded(x);
   Eigen::VectorXd out(n_);
   for (int d = 0; d < n_; ++d) out(d) = x(dof_slot_[d]);
   return out;
@@ -188,16 +211,16 @@ Eigen::VectorXd BlockLDLT::solve(const Eigen::VectorXd& b) const {
 
 Eigen::MatrixXd BlockLDLT::solve(const Eigen::MatrixXd& B) const {
   // Up to kWidth columns at a time, as rows of kWidth contiguous values: each block update is one
-  // fixed-size (6 x 6) (6 x kWidth) product.
+  // fixed-size (6 x 6) (6 x kWidth) (or 3 x 3, 3 x kWidth) product.
   constexpr int kWidth = 8;
   Eigen::MatrixXd out(n_, B.cols());
   using Rows = Eigen::Matrix<double, Eigen::Dynamic, kWidth, Eigen::RowMajor>;
-  Rows X(static_cast<Eigen::Index>(kBlock) * blocks_, kWidth);
+  Rows X(static_cast<Eigen::Index>(block_) * blocks_, kWidth);
   for (Eigen::Index c0 = 0; c0 < B.cols(); c0 += kWidth) {
     const Eigen::Index w = std::min<Eigen::Index>(kWidth, B.cols() - c0);
     X.setZero();
     for (int d = 0; d < n_; ++d) X.row(dof_slot_[d]).head(w) = B.row(d).segment(c0, w);
-    solve_in_place(X);
+    solve_padded(X);
     for (int d = 0; d < n_; ++d) out.row(d).segment(c0, w) = X.row(dof_slot_[d]).head(w);
   }
   return out;
