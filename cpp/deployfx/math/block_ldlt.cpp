@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "deployfx/math/block_product.hpp"
+
 namespace deployfx {
 
 namespace {
@@ -142,7 +144,6 @@ bool BlockLDLT::factorize_blocks() {
   using Block = Eigen::Matrix<double, kBlock, kBlock>;
   double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
   using Map = Eigen::Map<Block>;
-  using ConstMap = Eigen::Map<const Block>;
   for (int j = 0; j < blocks_; ++j) {
     for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) position_[off_rows_[t]] = t;
     Map D(values_.data() + kSize * 2 * j);
@@ -150,12 +151,12 @@ bool BlockLDLT::factorize_blocks() {
     // of column k follow row j in its ascending pattern).
     for (int u = row_begin_[j]; u < row_begin_[j + 1]; ++u) {
       const int s = row_blocks_[u], k = off_column_[s];
-      const ConstMap L_jk(off + kSize * s);
-      const Block Y = L_jk * ConstMap(values_.data() + kSize * 2 * k);  // L_jk D_k
-      D.noalias() -= Y * L_jk.transpose();
-      for (int t = s + 1; t < off_begin_[k + 1]; ++t)
-        Map(off + kSize * position_[off_rows_[t]]).noalias() -=
-            ConstMap(off + kSize * t) * Y.transpose();
+      const double* L_jk = off + kSize * s;
+      Block Y;  // L_jk D_k
+      block_product<kBlock, kBlock, false, false>(Y.data(), L_jk, values_.data() + kSize * 2 * k);
+      block_product<kBlock, kBlock, true, true>(D.data(), Y.data(), L_jk);  // D -= Y L_jk^T
+      for (int t = s + 1; t < off_begin_[k + 1]; ++t)  // L_ij -= L_ik Y^T
+        block_product<kBlock, kBlock, true, true>(off + kSize * position_[off_rows_[t]], off + kSize * t, Y.data());
     }
     D = (0.5 * (D + D.transpose())).eval();
     const Eigen::LDLT<Block> ldlt(D);
@@ -164,8 +165,8 @@ bool BlockLDLT::factorize_blocks() {
     D_inv = ldlt.solve(Block::Identity());
     if (!D_inv.allFinite()) return false;
     for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) {
-      Map W(off + kSize * t);  // L_ij = W_ij D_j^-1
-      W = (W * D_inv).eval();
+      double* W = off + kSize * t;  // L_ij = W_ij D_j^-1
+      block_product<kBlock, kBlock, false, false>(W, W, D_inv.data());
     }
   }
   return true;
@@ -179,13 +180,20 @@ void BlockLDLT::solve_in_place(Rhs& X) const {
   using ConstMap = Eigen::Map<const Block>;
   for (int j = 0; j < blocks_; ++j) {  // L y = b, by columns (unit diagonal)
     const auto y_j = X.template middleRows<kBlock>(kBlock * j);
-    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t)
-      X.template middleRows<kBlock>(kBlock * off_rows_[t]).noalias() -=
-          ConstMap(off + kSize * t) * y_j;
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) {
+      if constexpr (Rhs::ColsAtCompileTime == 1)  // a vector: the block kernel
+        block_product<kBlock, 1, false, true>(X.data() + kBlock * off_rows_[t], off + kSize * t, y_j.data());
+      else
+        X.template middleRows<kBlock>(kBlock * off_rows_[t]).noalias() -= ConstMap(off + kSize * t) * y_j;
+    }
   }
   for (int j = blocks_ - 1; j >= 0; --j) {  // L^T x = D^-1 y: row j of L^T is column j of L
     auto x_j = X.template middleRows<kBlock>(kBlock * j);
-    x_j = (ConstMap(values_.data() + kSize * (2 * j + 1)) * x_j).eval();
+    const double* D_inv = values_.data() + kSize * (2 * j + 1);
+    if constexpr (Rhs::ColsAtCompileTime == 1)
+      block_product<kBlock, 1, false, false>(x_j.data(), D_inv, x_j.data());
+    else
+      x_j = (ConstMap(D_inv) * x_j).eval();
     for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t)
       x_j.noalias() -=
           ConstMap(off + kSize * t).transpose() * X.template middleRows<kBlock>(kBlock * off_rows_[t]);
