@@ -105,8 +105,11 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     if (split) in_plane_ = std::move(in_plane);
   } else if (flexible()) {
     free_ = fem::free_dofs(model.num_dofs(), spec_.fixed_dofs);
+    // Their nonzeros alone (the mesh pattern stores zeros: 31 % of K_L's entries, 72 % of the
+    // mass's): the products once per residual (K_L q, the damping's L_c q') form the same sums.
     K_free_ = fem::restrict(model.stiffness(), free_);
-    M_free_ = fem::restrict(ffi_.M(), free_);
+    K_free_.prune([](Eigen::Index, Eigen::Index, double value) { return value != 0.0; });
+    M_free_ = fem::restrict(ffi_.M(), free_);  // pruned in FloatingFrameInertia
     // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
     block_.emplace(model.stiffness(), free_);
     M_vals_ = block_->aligned(ffi_.M());
