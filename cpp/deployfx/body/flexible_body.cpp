@@ -234,9 +234,11 @@ Eigen::MatrixXd FlexibleBody::elastic_tangent(const Eigen::VectorXd& q_el, doubl
 
 double FlexibleBody::strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d, const Workspace* ws) const {
   if (num_elastic() == 0) return 0.0;
-  return modal_ && green_ ? modal_->strain_energy(q_el, ws ? &ws->modal : nullptr)
-         : green_         ? spec_.model->strain_energy(d)
-                          : 0.5 * q_el.dot(K_free_ * q_el);
+  if (modal_ && green_) return modal_->strain_energy(q_el, ws ? &ws->modal : nullptr);
+  if (!green_) return 0.5 * q_el.dot(K_free_ * q_el);
+  double U = 0;
+  spec_.model->internal_force(d, nullptr, nullptr, &U);
+  return U;
 }
 
 }  // namespace deployfx::body
