@@ -132,8 +132,8 @@ void FlexibleBody::align_Mij() {
   }
 }
 
-Eigen::VectorXd FlexibleBody::mass_combination(double c_a, const Eigen::Matrix3d& c) const {
-  Eigen::VectorXd vals = c_a * M_vals_;
+void FlexibleBody::mass_combination(double c_a, const Eigen::Matrix3d& c, Eigen::Ref<Eigen::VectorXd> vals) const {
+  vals = c_a * M_vals_;
   for (int im = 0; im < 9; ++im) {
     const double cim = c(im / 3, im % 3);
     if (cim == 0.0) continue;
@@ -142,7 +142,6 @@ Eigen::VectorXd FlexibleBody::mass_combination(double c_a, const Eigen::Matrix3d
     const double* value = nz.value.data();
     for (std::size_t k = 0; k < nz.index.size(); ++k) vals[index[k]] += cim * value[k];
   }
-  return vals;
 }
 
 Eigen::VectorXd FlexibleBody::full(const Eigen::VectorXd& d_free) const {
@@ -211,7 +210,7 @@ void FlexibleBody::add_elastic_force(const Eigen::VectorXd& q_el, const Eigen::V
   }
 }
 
-void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::VectorXd& vals,
+void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
                                      Workspace* ws) const {
   if (modal_ && green_) {
     Eigen::MatrixXd T;  // dense, column-major: the block's value order
