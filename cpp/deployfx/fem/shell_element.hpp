@@ -71,8 +71,9 @@ class ShellElement {
   ElemMat geometric_stiffness_from(const ElemVec& d_W) const;
   /// Strain energy of the nonlinear (Eq. 14) strain field for displacements d_W (J).
   double strain_energy(const ElemVec& d_W) const;
-  /// Internal force f = dU/dd and tangent K_T = K_L + K_L*(d) + K_s(N(d)) (world dofs).
-  void internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W) const;
+  /// Internal force f = dU/dd and tangent K_T = K_L + K_L*(d) + K_s(N(d)) (world dofs), and the
+  /// strain energy U from the same strains (J; strain_energy() is the independent reference).
+  void internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W, double* energy = nullptr) const;
 
   /// The ingredients of the Green membrane strain at Gauss point g, on world dofs, for its exact
   /// projection on a Ritz basis (fem/modal_internal_force): the gradients psi = G d (Eq. 20), so

@@ -129,21 +129,23 @@ double ShellModel::strain_energy(const Eigen::VectorXd& u) const {
   return U;
 }
 
-void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f,
-                                SparseMatrix* K_T) const {
-  if (K_T) {  // add_tangent checks u
-    if (f) f->setZero(num_dofs());
+void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, SparseMatrix* K_T,
+                                double* energy) const {
+  check_size(u, "u");
+  if (f) f->setZero(num_dofs());
+  if (K_T) {  // and f with it
     *K_T = pattern_;
     add_tangent(u, slots_, 1.0, K_T->valuePtr(), f);
-    return;
+    f = nullptr;
   }
-  check_size(u, "u");
-  if (!f) return;
-  f->setZero(num_dofs());
+  if (energy) *energy = 0;
+  if (!f && !energy) return;
   for (int e = 0; e < num_elements(); ++e) {
     ElemVec fe;
-    elements_[e].internal_force(gather(u, e), &fe, nullptr);
-    scatter(fe, e, f);
+    double Ue = 0;
+    elements_[e].internal_force(gather(u, e), f ? &fe : nullptr, nullptr, energy ? &Ue : nullptr);
+    if (f) scatter(fe, e, f);
+    if (energy) *energy += Ue;
   }
 }
 

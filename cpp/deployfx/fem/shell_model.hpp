@@ -38,10 +38,14 @@ class ShellModel {
   SparseMatrix geometric_stiffness(const Eigen::Vector3d& N) const;
   /// K_s with the resultants of the linear strains of the displacement u.
   SparseMatrix geometric_stiffness_from(const Eigen::VectorXd& u) const;
-  /// Strain energy of the nonlinear strain field (You et al. 2016 Eq. 14), J.
+  /// Strain energy of the nonlinear strain field (You et al. 2016 Eq. 14), J, from the elements'
+  /// 24-column strain operators: the tests' reference.
   double strain_energy(const Eigen::VectorXd& u) const;
-  /// Internal force and tangent stiffness K_L + K_L* + K_s at displacement u.
-  void internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, SparseMatrix* K_T) const;
+  /// Internal force and tangent stiffness K_L + K_L* + K_s at displacement u (either may be null);
+  /// with `energy`, the strain energy from the force's own strains (J, what the engine reports:
+  /// a sixth of strain_energy()'s multiply-adds, equal to round-off).
+  void internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, SparseMatrix* K_T,
+                      double* energy = nullptr) const;
   /// For each element e, where its 24 x 24 entries (column-major, k = 0..575) land in the values
   /// of stiffness()'s pattern: element_slots()[576 e + k].
   const std::vector<int>& element_slots() const { return slots_; }

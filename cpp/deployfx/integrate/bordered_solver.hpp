@@ -20,6 +20,7 @@
 #include <Eigen/LU>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
+#include <utility>
 #include <vector>
 
 #include "deployfx/integrate/block_matrix.hpp"
@@ -73,8 +74,8 @@ class BorderedSolver {
   bool ldlt_analyzed_ = false;
   bool block_ = false;  // kSymmetric: Es in block_E_ (else in ldlt_E_)
   SparseMatrix E_sym_, E_skew_;           // E's pattern, (E + E^T)/2 and (E - E^T)/2
-  std::vector<Eigen::Index> transpose_;   // E's k-th nonzero (i, j) -> the slot of (j, i); empty: not
-                                          // structurally symmetric
+  // E's nonzeros (i, j) with i >= j, by slot, and the slot of (j, i); empty: not structurally symmetric
+  std::vector<std::pair<int, int>> transpose_pairs_;
   bool lu_analyzed_ = false;
   Method method_ = Method::kExact;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_schur_;

@@ -1,35 +1,9 @@
 #include "deployfx/integrate/slaved_block.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace deployfx::integrate {
-
-Eigen::SparseMatrix<double> principal_submatrix(const BlockMatrix& S, const std::vector<int>& idx) {
-  const int nb = S.border(), n = S.size(), m = static_cast<int>(idx.size());
-  std::vector<int> pos(n, -1);  // idx's position of each coordinate (-1: not in idx)
-  for (int i = 0; i < m; ++i) {
-    if (idx[i] < 0 || idx[i] >= n) throw std::out_of_range("principal_submatrix: index out of range");
-    pos[idx[i]] = i;
-  }
-  std::vector<Eigen::Triplet<double>> t;
-  for (int jj = 0; jj < m; ++jj) {
-    const int j = idx[jj];
-    if (j < nb) {  // a border column: A above, C below
-      for (int i = 0; i < m; ++i) {
-        const double v = idx[i] < nb ? S.A(idx[i], j) : S.C(idx[i] - nb, j);
-        if (v != 0.0) t.emplace_back(i, jj, v);
-      }
-    } else {  // an elastic column: B above, E below
-      for (int i = 0; i < m; ++i)
-        if (idx[i] < nb && S.B(idx[i], j - nb) != 0.0) t.emplace_back(i, jj, S.B(idx[i], j - nb));
-      for (Eigen::SparseMatrix<double>::InnerIterator e(S.E, j - nb); e; ++e)
-        if (pos[nb + e.row()] >= 0) t.emplace_back(pos[nb + e.row()], jj, e.value());
-    }
-  }
-  Eigen::SparseMatrix<double> out(m, m);
-  out.setFromTriplets(t.begin(), t.end());
-  return out;
-}
 
 namespace {
 // A block this small, or at least this dense, is factorized densely: below it a dense LU costs
@@ -38,33 +12,74 @@ constexpr int kDenseSize = 128;
 constexpr double kDenseFill = 0.25;
 }  // namespace
 
+void SlavedBlock::analyze(const BlockMatrix& S, const std::vector<int>& idx) {
+  if (!S.E.isCompressed()) throw std::logic_error("SlavedBlock: the elastic block must be compressed");
+  const int nb = S.border(), n = S.size(), m = static_cast<int>(idx.size());
+  std::vector<int> pos(n, -1);  // idx's position of each coordinate (-1: not in idx)
+  for (int i = 0; i < m; ++i) {
+    if (idx[i] < 0 || idx[i] >= n) throw std::out_of_range("SlavedBlock: index out of range");
+    pos[idx[i]] = i;
+  }
+  // Column by column, the block's rows and where their values come from, rows ascending.
+  std::vector<std::pair<int, Source>> column;
+  std::vector<int> outer(1, 0), inner;
+  sources_.clear();
+  for (int jj = 0; jj < m; ++jj) {
+    const int j = idx[jj];
+    column.clear();
+    if (j < nb) {  // a border column: A above, C below
+      for (int i = 0; i < m; ++i)
+        column.push_back({i, idx[i] < nb ? Source{kA, idx[i] + static_cast<Eigen::Index>(j) * nb}
+                                         : Source{kC, idx[i] - nb + static_cast<Eigen::Index>(j) * S.C.rows()}});
+    } else {  // an elastic column: B above, E's stored entries below
+      for (int i = 0; i < m; ++i)
+        if (idx[i] < nb) column.push_back({i, Source{kB, idx[i] + static_cast<Eigen::Index>(j - nb) * nb}});
+      const int* rows = S.E.innerIndexPtr();
+      for (int p = S.E.outerIndexPtr()[j - nb]; p < S.E.outerIndexPtr()[j - nb + 1]; ++p)
+        if (pos[nb + rows[p]] >= 0) column.push_back({pos[nb + rows[p]], Source{kE, p}});
+    }
+    std::sort(column.begin(), column.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [row, source] : column) inner.push_back(row), sources_.push_back(source);
+    outer.push_back(static_cast<int>(inner.size()));
+  }
+  Eigen::SparseMatrix<double>& E = block_.E;
+  E.resize(m, m);
+  E.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), E.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), E.innerIndexPtr());
+  block_.A.resize(0, 0);
+  block_.B.resize(0, m);
+  block_.C.resize(m, 0);
+  dense_ = m <= kDenseSize || static_cast<double>(E.nonZeros()) >= kDenseFill * m * static_cast<double>(m);
+  idx_ = idx;
+  border_ = nb;
+  elastic_ = S.elastic();
+  elastic_nnz_ = S.E.nonZeros();
+}
+
 void SlavedBlock::set(const BlockMatrix& S, const std::vector<int>& idx) {
-  block_ = principal_submatrix(S, idx);
-  const double m = static_cast<double>(block_.rows());
-  dense_ = block_.rows() <= kDenseSize || static_cast<double>(block_.nonZeros()) >= kDenseFill * m * m;
+  if (S.border() != border_ || S.elastic() != elastic_ || S.E.nonZeros() != elastic_nnz_ || idx != idx_)
+    analyze(S, idx);
+  const double* part[4] = {S.A.data(), S.B.data(), S.C.data(), S.E.valuePtr()};
+  double* value = block_.E.valuePtr();
+  for (std::size_t k = 0; k < sources_.size(); ++k) value[k] = part[sources_[k].part][sources_[k].offset];
   state_ = State::kSet;
 }
 
 bool SlavedBlock::solve(const Eigen::VectorXd& r, Eigen::VectorXd* d) {
   if (state_ == State::kSet) {
+    bool factorized = true;
     if (dense_) {
-      dense_block_ = Eigen::MatrixXd(block_);
+      dense_block_ = Eigen::MatrixXd(block_.E);
       dense_lu_.compute(dense_block_);
       // PartialPivLU does not report singularity: a zero pivot shows as a non-finite solve below.
-      state_ = State::kFactorized;
     } else {
-      const std::vector<int> outer(block_.outerIndexPtr(), block_.outerIndexPtr() + block_.outerSize() + 1);
-      const std::vector<int> inner(block_.innerIndexPtr(), block_.innerIndexPtr() + block_.nonZeros());
-      if (outer != analyzed_outer_ || inner != analyzed_inner_) {
-        lu_.analyzePattern(block_);
-        analyzed_outer_ = outer, analyzed_inner_ = inner;
-      }
-      lu_.factorize(block_);
-      state_ = lu_.info() == Eigen::Success ? State::kFactorized : State::kSingular;
+      factorized = sparse_.factorize(block_);
     }
+    state_ = factorized ? State::kFactorized : State::kSingular;
   }
   if (state_ != State::kFactorized) return false;
-  Eigen::VectorXd x = dense_ ? Eigen::VectorXd(dense_lu_.solve(r)) : Eigen::VectorXd(lu_.solve(r));
+  Eigen::VectorXd x = dense_ ? Eigen::VectorXd(dense_lu_.solve(r)) : sparse_.solve(r);
   if (!x.allFinite()) return false;
   *d = std::move(x);
   return true;

@@ -5,21 +5,21 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
 #include <vector>
 
 #include "deployfx/integrate/block_matrix.hpp"
+#include "deployfx/integrate/bordered_solver.hpp"
 
 namespace deployfx::integrate {
 
-/// S(idx, idx) as a sparse matrix (its entries in the border and in the elastic block).
-Eigen::SparseMatrix<double> principal_submatrix(const BlockMatrix& S, const std::vector<int>& idx);
-
 /// S(idx, idx), kept when set() and factorized on first use (it is not symmetric: the floating
 /// frame's gyroscopic terms), so a Newton loop that forms many matrices pays for one
-/// factorization per use. A small or dense block (a reduced panel's in-plane Ritz coordinates) is
-/// factorized densely; a large sparse one (a mesh's in-plane dofs) by a sparse LU whose ordering
-/// and symbolic analysis are kept while the pattern stays (it is the elastic block's).
+/// factorization per use. Its pattern is S's own on idx (the elastic block's stored entries, zeros
+/// included, and the dense border's), so set() gathers values through slots found once per
+/// pattern. A small or dense block (a reduced panel's in-plane Ritz coordinates) is factorized
+/// densely; a large sparse one (a mesh's in-plane dofs, three a node) by the bordered solver
+/// without a border: the block LDL^T of its symmetric part over the nodes' 3 x 3 blocks, its solve
+/// refined against the skew part to 1e-8 (the sparse LU where that part is not small).
 class SlavedBlock {
  public:
   void set(const BlockMatrix& S, const std::vector<int>& idx);
@@ -30,12 +30,24 @@ class SlavedBlock {
 
  private:
   enum class State { kEmpty, kSet, kFactorized, kSingular };
+  // Where each stored value of the block comes from: one of S's four parts, at an offset in its
+  // values (column-major for the dense A, B, C; E's value array).
+  enum Part { kA, kB, kC, kE };
+  struct Source {
+    Part part;
+    Eigen::Index offset;
+  };
+  void analyze(const BlockMatrix& S, const std::vector<int>& idx);  // the block's pattern, sources_
+
+  std::vector<int> idx_;                        // the coordinates sources_ was built for
+  int border_ = -1;                             // and S's border, elastic size and nonzeros
+  Eigen::Index elastic_ = -1, elastic_nnz_ = -1;
+  std::vector<Source> sources_;                 // per stored value of block_.E
   bool dense_ = false;
+  BlockMatrix block_;  // S(idx, idx) as the elastic block of a matrix without border
   Eigen::MatrixXd dense_block_;
   Eigen::PartialPivLU<Eigen::MatrixXd> dense_lu_;
-  Eigen::SparseMatrix<double> block_;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
-  std::vector<int> analyzed_outer_, analyzed_inner_;  // the pattern lu_ was analyzed for
+  BorderedSolver sparse_;
   State state_ = State::kEmpty;
 };
 

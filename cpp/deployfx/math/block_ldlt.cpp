@@ -5,14 +5,17 @@
 #include <algorithm>
 #include <cstring>
 
+#include "deployfx/math/block_product.hpp"
+
 namespace deployfx {
 
 namespace {
-constexpr int kSize = BlockLDLT::kBlock * BlockLDLT::kBlock;  // values in a block
+constexpr int kMaxBlock = 6;  // a shell node's dofs (fem::kNodeDofs)
 }  // namespace
 
 bool BlockLDLT::analyze(const SparseMatrix& A) {
   blocks_ = 0;
+  block_ = 0;
   n_ = 0;
   if (A.rows() != A.cols() || !A.isCompressed()) return false;
   const int n = static_cast<int>(A.rows());
@@ -24,10 +27,10 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
            std::memcmp(inner + outer[c], inner + outer[d],
                        sizeof(int) * static_cast<std::size_t>(len)) == 0;
   };
-  // Groups: runs of at most kBlock consecutive dofs with one column pattern.
+  // Groups: runs of at most kMaxBlock consecutive dofs with one column pattern.
   std::vector<int> group(n), local(n), group_size;
   for (int d = 0; d < n; ++d) {
-    if (d > 0 && local[d - 1] + 1 < kBlock && same_pattern(d - 1, d)) {
+    if (d > 0 && local[d - 1] + 1 < kMaxBlock && same_pattern(d - 1, d)) {
       group[d] = group[d - 1];
       local[d] = local[d - 1] + 1;
       ++group_size.back();
@@ -38,7 +41,11 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
     }
   }
   const int ng = static_cast<int>(group_size.size());
-  if (4 * ng > n) return false;
+  // Blocks of six (whole nodes, some with held dofs) or of three (a node's in-plane dofs).
+  const int largest = *std::max_element(group_size.begin(), group_size.end());
+  const int block = 4 * ng <= n ? kMaxBlock : largest <= 3 && 2 * ng <= n ? 3 : 0;
+  if (block == 0) return false;
+  const int kSize = block * block;  // values in a block
   // The groups' graph (a group's first column holds its pattern) and its AMD ordering:
   // order[new] = old (the ordering's convention, as in CSparse's cs_amd), rank[old] = new.
   std::vector<Eigen::Triplet<double>> edges;
@@ -91,17 +98,17 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
     }
   // Where A's dofs and values go.
   dof_slot_.resize(n);
-  for (int d = 0; d < n; ++d) dof_slot_[d] = kBlock * rank[group[d]] + local[d];
+  for (int d = 0; d < n; ++d) dof_slot_[d] = block * rank[group[d]] + local[d];
   padding_.clear();
   for (int g = 0; g < ng; ++g)
-    for (int l = group_size[g]; l < kBlock; ++l)
-      padding_.push_back(kSize * 2 * rank[g] + l * (kBlock + 1));
+    for (int l = group_size[g]; l < block; ++l)
+      padding_.push_back(kSize * 2 * rank[g] + l * (block + 1));
   value_target_.assign(static_cast<std::size_t>(A.nonZeros()), -1);
   for (int c = 0; c < n; ++c)
     for (int p = outer[c]; p < outer[c + 1]; ++p) {
       const int r = inner[p];
       const int I = rank[group[r]], J = rank[group[c]];
-      const long within = local[r] + kBlock * local[c];  // column-major within the block
+      const long within = local[r] + block * local[c];  // column-major within the block
       if (I == J) {
         value_target_[p] = static_cast<long>(kSize) * 2 * J + within;
       } else if (I > J) {
@@ -114,6 +121,7 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
   values_.assign(static_cast<std::size_t>(kSize) * (2 * ng + off_rows_.size()), 0.0);
   position_.assign(ng, -1);
   n_ = n;
+  block_ = block;
   blocks_ = ng;
   return true;
 }
@@ -127,9 +135,15 @@ bool BlockLDLT::factorize(const SparseMatrix& A) {
   const double* a = A.valuePtr();
   for (std::size_t p = 0; p < value_target_.size(); ++p)
     if (value_target_[p] >= 0) values_[value_target_[p]] = a[p];
+  return block_ == kMaxBlock ? factorize_blocks<kMaxBlock>() : factorize_blocks<3>();
+}
+
+template <int kBlock>
+bool BlockLDLT::factorize_blocks() {
+  constexpr int kSize = kBlock * kBlock;
+  using Block = Eigen::Matrix<double, kBlock, kBlock>;
   double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
   using Map = Eigen::Map<Block>;
-  using ConstMap = Eigen::Map<const Block>;
   for (int j = 0; j < blocks_; ++j) {
     for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) position_[off_rows_[t]] = t;
     Map D(values_.data() + kSize * 2 * j);
@@ -137,12 +151,12 @@ bool BlockLDLT::factorize(const SparseMatrix& A) {
     // of column k follow row j in its ascending pattern).
     for (int u = row_begin_[j]; u < row_begin_[j + 1]; ++u) {
       const int s = row_blocks_[u], k = off_column_[s];
-      const ConstMap L_jk(off + kSize * s);
-      const Block Y = L_jk * ConstMap(values_.data() + kSize * 2 * k);  // L_jk D_k
-      D.noalias() -= Y * L_jk.transpose();
-      for (int t = s + 1; t < off_begin_[k + 1]; ++t)
-        Map(off + kSize * position_[off_rows_[t]]).noalias() -=
-            ConstMap(off + kSize * t) * Y.transpose();
+      const double* L_jk = off + kSize * s;
+      Block Y;  // L_jk D_k
+      block_product<kBlock, kBlock, false, false>(Y.data(), L_jk, values_.data() + kSize * 2 * k);
+      block_product<kBlock, kBlock, true, true>(D.data(), Y.data(), L_jk);  // D -= Y L_jk^T
+      for (int t = s + 1; t < off_begin_[k + 1]; ++t)  // L_ij -= L_ik Y^T
+        block_product<kBlock, kBlock, true, true>(off + kSize * position_[off_rows_[t]], off + kSize * t, Y.data());
     }
     D = (0.5 * (D + D.transpose())).eval();
     const Eigen::LDLT<Block> ldlt(D);
@@ -151,36 +165,53 @@ bool BlockLDLT::factorize(const SparseMatrix& A) {
     D_inv = ldlt.solve(Block::Identity());
     if (!D_inv.allFinite()) return false;
     for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) {
-      Map W(off + kSize * t);  // L_ij = W_ij D_j^-1
-      W = (W * D_inv).eval();
+      double* W = off + kSize * t;  // L_ij = W_ij D_j^-1
+      block_product<kBlock, kBlock, false, false>(W, W, D_inv.data());
     }
   }
   return true;
 }
 
-template <class Rhs>
+template <int kBlock, class Rhs>
 void BlockLDLT::solve_in_place(Rhs& X) const {
+  constexpr int kSize = kBlock * kBlock;
+  using Block = Eigen::Matrix<double, kBlock, kBlock>;
   const double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
   using ConstMap = Eigen::Map<const Block>;
   for (int j = 0; j < blocks_; ++j) {  // L y = b, by columns (unit diagonal)
     const auto y_j = X.template middleRows<kBlock>(kBlock * j);
-    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t)
-      X.template middleRows<kBlock>(kBlock * off_rows_[t]).noalias() -=
-          ConstMap(off + kSize * t) * y_j;
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) {
+      if constexpr (Rhs::ColsAtCompileTime == 1)  // a vector: the block kernel
+        block_product<kBlock, 1, false, true>(X.data() + kBlock * off_rows_[t], off + kSize * t, y_j.data());
+      else
+        X.template middleRows<kBlock>(kBlock * off_rows_[t]).noalias() -= ConstMap(off + kSize * t) * y_j;
+    }
   }
   for (int j = blocks_ - 1; j >= 0; --j) {  // L^T x = D^-1 y: row j of L^T is column j of L
     auto x_j = X.template middleRows<kBlock>(kBlock * j);
-    x_j = (ConstMap(values_.data() + kSize * (2 * j + 1)) * x_j).eval();
+    const double* D_inv = values_.data() + kSize * (2 * j + 1);
+    if constexpr (Rhs::ColsAtCompileTime == 1)
+      block_product<kBlock, 1, false, false>(x_j.data(), D_inv, x_j.data());
+    else
+      x_j = (ConstMap(D_inv) * x_j).eval();
     for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t)
       x_j.noalias() -=
           ConstMap(off + kSize * t).transpose() * X.template middleRows<kBlock>(kBlock * off_rows_[t]);
   }
 }
 
+template <class Rhs>
+void BlockLDLT::solve_padded(Rhs& X) const {
+  if (block_ == kMaxBlock)
+    solve_in_place<kMaxBlock>(X);
+  else
+    solve_in_place<3>(X);
+}
+
 Eigen::VectorXd BlockLDLT::solve(const Eigen::VectorXd& b) const {
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(kBlock) * blocks_);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block_) * blocks_);
   for (int d = 0; d < n_; ++d) x(dof_slot_[d]) = b(d);
-  solve_in_place(x);
+  solve_padded(x);
   Eigen::VectorXd out(n_);
   for (int d = 0; d < n_; ++d) out(d) = x(dof_slot_[d]);
   return out;
@@ -188,16 +219,16 @@ Eigen::VectorXd BlockLDLT::solve(const Eigen::VectorXd& b) const {
 
 Eigen::MatrixXd BlockLDLT::solve(const Eigen::MatrixXd& B) const {
   // Up to kWidth columns at a time, as rows of kWidth contiguous values: each block update is one
-  // fixed-size (6 x 6) (6 x kWidth) product.
+  // fixed-size (6 x 6) (6 x kWidth) (or 3 x 3, 3 x kWidth) product.
   constexpr int kWidth = 8;
   Eigen::MatrixXd out(n_, B.cols());
   using Rows = Eigen::Matrix<double, Eigen::Dynamic, kWidth, Eigen::RowMajor>;
-  Rows X(static_cast<Eigen::Index>(kBlock) * blocks_, kWidth);
+  Rows X(static_cast<Eigen::Index>(block_) * blocks_, kWidth);
   for (Eigen::Index c0 = 0; c0 < B.cols(); c0 += kWidth) {
     const Eigen::Index w = std::min<Eigen::Index>(kWidth, B.cols() - c0);
     X.setZero();
     for (int d = 0; d < n_; ++d) X.row(dof_slot_[d]).head(w) = B.row(d).segment(c0, w);
-    solve_in_place(X);
+    solve_padded(X);
     for (int d = 0; d < n_; ++d) out.row(d).segment(c0, w) = X.row(dof_slot_[d]).head(w);
   }
   return out;

@@ -1,9 +1,10 @@
 #pragma once
-// A sparse LDL^T factorization A = P^T L D L^T P over dense 6 x 6 blocks, for a symmetric matrix
-// whose dofs come in groups with one pattern: a shell mesh's elastic block, whose six dofs per
-// node (kNodeDofs) couple to the same neighbours. L is unit block lower triangular and block
-// sparse with dense blocks, D block diagonal; every update of the factorization and of its
-// triangular solves is a fixed-size 6 x 6 product (one vectorized kernel, no index per scalar),
+// A sparse LDL^T factorization A = P^T L D L^T P over dense blocks, for a symmetric matrix whose
+// dofs come in groups with one pattern: a shell mesh's elastic block, whose six dofs per node
+// (fem::kNodeDofs) couple to the same neighbours, or its in-plane part (three dofs a node: the
+// slaved block of integrate/slaved_block.hpp). L is unit block lower triangular and block sparse
+// with dense blocks, D block diagonal; every update of the factorization and of its triangular
+// solves is a fixed-size 6 x 6 (or 3 x 3) product (one vectorized kernel, no index per scalar),
 // where a scalar sparse LDL^T (Eigen's SimplicialLDLT) reads an index and does one multiply-add
 // per entry. These are the supernodes of the node graph at their narrowest (George & Liu,
 // Computer Solution of Large Sparse Positive Definite Systems, 1981, Sec. 5.5, indistinguishable
@@ -14,9 +15,11 @@
 // as long as no pivot block is singular: like the scalar LDL^T, with pivoting inside each node.
 //
 // analyze() groups consecutive dofs whose columns have the same pattern (at most six: a node),
-// pads a group of fewer (a node with held dofs) with unit diagonal entries, orders the groups by
-// AMD on their graph, and builds the factor's block pattern from the elimination tree; it is done
-// once per pattern. factorize() and solve() then work on that structure.
+// takes blocks of six (groups of four dofs or more on average) or of three (groups of at most
+// three, two or more on average), pads a group smaller than the block with unit diagonal entries
+// (a node with held dofs), orders the groups by AMD on their graph, and builds the factor's block
+// pattern from the elimination tree; it is done once per pattern. factorize() and solve() then
+// work on that structure.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <vector>
@@ -25,12 +28,12 @@ namespace deployfx {
 
 class BlockLDLT {
  public:
-  static constexpr int kBlock = 6;
   using SparseMatrix = Eigen::SparseMatrix<double>;  // compressed, column-major, int indices
 
   /// Analyses the pattern of A (square, structurally symmetric, both triangles stored). False if
-  /// its dofs do not group into blocks (on average fewer than four dofs a group: the scalar
-  /// factorization is then as good); the object is then unusable until a successful analyze.
+  /// its dofs do not group into blocks (groups of four dofs or more, or of two to three, on
+  /// average; fewer: the scalar factorization is then as good); the object is then unusable until
+  /// a successful analyze.
   bool analyze(const SparseMatrix& A);
   /// Factorizes A, of the analysed pattern and symmetric (the entries of the lower block triangle
   /// in the factor's order are read). False if a pivot block is singular or not finite.
@@ -41,21 +44,27 @@ class BlockLDLT {
 
   /// Whether the last analyze succeeded.
   bool analyzed() const { return blocks_ > 0; }
+  /// The dofs a block holds (6 or 3; 0 before a successful analyze).
+  int block_size() const { return block_; }
 
  private:
-  using Block = Eigen::Matrix<double, kBlock, kBlock>;
-  template <class Rhs>
+  template <int kBlock>
+  bool factorize_blocks();  // the factorization proper, on values_ as loaded by factorize()
+  template <int kBlock, class Rhs>
   void solve_in_place(Rhs& X) const;  // X: the padded, permuted right-hand sides
+  template <class Rhs>
+  void solve_padded(Rhs& X) const;  // solve_in_place for the analysed block size
 
   int n_ = 0;       // scalar rows of A
+  int block_ = 0;   // dofs per block: 6 or 3
   int blocks_ = 0;  // block rows and columns of the factor
-  // Where dof d of A lives in the padded, permuted vector: kBlock * (its block) + its place in it.
+  // Where dof d of A lives in the padded, permuted vector: block_ * (its block) + its place in it.
   std::vector<int> dof_slot_;
   std::vector<int> padding_;  // padded diagonal entries (indices into values_), set to 1
-  // The factor, column by column: the pivot blocks D_j at values_[kBlock^2 2 j] and their
-  // inverses next, at values_[kBlock^2 (2 j + 1)]; then the blocks L_ij of column j for the block
-  // rows i in off_rows_[off_begin_[j] .. off_begin_[j + 1]) (ascending), block t at
-  // values_[kBlock^2 (2 blocks_ + t)].
+  // The factor, column by column (s = block_^2 values a block): the pivot blocks D_j at
+  // values_[s 2 j] and their inverses next, at values_[s (2 j + 1)]; then the blocks L_ij of
+  // column j for the block rows i in off_rows_[off_begin_[j] .. off_begin_[j + 1]) (ascending),
+  // block t at values_[s (2 blocks_ + t)].
   std::vector<int> off_begin_, off_rows_;
   std::vector<int> off_column_;  // the column of block t
   // The left-looking updates of column j: the blocks L_jk (k < j) of row j, by their index t in

@@ -218,11 +218,17 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
       cm(i, l) += x(jn);
       cm(i, jn) -= x(l);
     }
-    Eigen::VectorXd vals = b.panel->mass_combination(c_a, cm);
+    // With the panel's block as the whole elastic block, its values are formed in S.E itself.
+    const fem::FreeBlock& block = b.panel->block();
+    Eigen::VectorXd own;
+    if (pattern.identity)
+      S.E = block.matrix();
+    else
+      own.resize(block.nonzeros());
+    Eigen::Map<Eigen::VectorXd> vals(pattern.identity ? S.E.valuePtr() : own.data(), block.nonzeros());
+    b.panel->mass_combination(c_a, cm, vals);
     b.panel->add_elastic_block(d.elastic[j].d, c_v, c_q, vals, &d.panels[j]);  // K_T (or K_L), damping
-    if (pattern.identity) {
-      S.E = b.panel->block().with_values(vals);
-    } else {
+    if (!pattern.identity) {
       const std::vector<int>& slots = pattern.body_slots[j];
       for (std::size_t i = 0; i < slots.size(); ++i) Ev(slots[i]) += vals(static_cast<Eigen::Index>(i));
     }
