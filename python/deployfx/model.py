@@ -171,17 +171,24 @@ class Model:
         shape (n, len(nodes), 3) (``nodes`` None: all of them)."""
         k = self._hinge(hinge, panel=True)
         q = self._q(q)
+        return self._node_translations(k, nodes)(q)
+
+    def _node_translations(self, hinge: Optional[int] = None,
+                          nodes: Optional[Sequence[int]] = None) -> "_NodeTranslations":
+        """:meth:`node_displacements` of these nodes as a function of ``q``, the displacement map's
+        rows taken once (a scene's series at every run: ``translations(q)``, no checks of ``q``)."""
+        k = self._hinge(hinge, panel=True)
         n_nodes = self.shells[k].num_dofs // 6
         idx = np.arange(n_nodes) if nodes is None else np.asarray(nodes, dtype=int)
         if idx.size and (idx.min() < 0 or idx.max() >= n_nodes):
             raise ValueError(f"nodes must lie in [0, {n_nodes}) (the panel's nodes)")
         lay = self.core.layout(k)
         if lay["num_elastic"] == 0:
-            return np.zeros((len(q), idx.size, 3))
+            return _NodeTranslations(idx.size, None, 0)
         rows = (6 * idx[:, None] + np.arange(3)[None]).ravel()
         D = self.core.displacement_map(k)[rows]
-        eta = q[:, lay["iq_elastic"]:lay["iq_elastic"] + lay["num_elastic"]]
-        return (eta @ D.T).reshape(len(q), idx.size, 3)
+        D.flags.writeable = False
+        return _NodeTranslations(idx.size, D, lay["iq_elastic"])
 
     def frames(self, q, t=None) -> tuple[np.ndarray, np.ndarray]:
         """Every body frame C_k in W at each recorded ``q`` (and time ``t``, for prescribed
@@ -501,6 +508,23 @@ class Model:
             "kinetic_energy": raw["kinetic_energy"], "potential_energy": raw["potential_energy"],
             "q": q, "v": raw["v"],
         }
+
+
+@dataclass(frozen=True)
+class _NodeTranslations:
+    """Translations (m, (n, count, 3), C_k axes) of ``count`` nodes of a panel at each recorded
+    ``q``: ``rows`` (3 count x num_elastic) of its displacement map times its elastic coordinates
+    (q's columns from ``start``); zeros for a panel that does not deform (``rows`` None)."""
+
+    count: int
+    rows: Optional[np.ndarray]
+    start: int
+
+    def __call__(self, q: np.ndarray) -> np.ndarray:
+        if self.rows is None:
+            return np.zeros((len(q), self.count, 3))
+        eta = q[:, self.start:self.start + self.rows.shape[1]]
+        return (eta @ self.rows.T).reshape(len(q), self.count, 3)
 
 
 def _state(name: str, value, n: int) -> np.ndarray:
