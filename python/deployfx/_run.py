@@ -145,15 +145,20 @@ def base_attitude_deg(q: np.ndarray, base_free: bool) -> np.ndarray:
     round-off; vectorised here, a third of its time: part of every run's post-processing)."""
     if not base_free:
         return np.zeros((len(q), 3))
-    quat = q[:, 3:7] / np.linalg.norm(q[:, 3:7], axis=1)[:, None]
-    quat = np.where(quat[:, :1] < 0, -quat, quat)
-    v = quat[:, 1:]
-    phi = 2.0 * np.arctan2(np.linalg.norm(v, axis=1), quat[:, 0])
-    small = phi <= 1e-3
+    # As component rows (4, n), contiguous, numpy's loops run along the samples: 2-3x faster than
+    # over rows of 4, with the same bits (the squares summed w, x, y, z in order, as np.linalg.norm
+    # sums a row; the sign flip a product by -1.0, exact).
+    quat = np.ascontiguousarray(q[:, 3:7].T)
+    quat = quat / np.sqrt(np.add.reduce(quat * quat, axis=0))
+    quat *= np.where(quat[0] < 0, -1.0, 1.0)
+    v = quat[1:]
+    phi = 2.0 * np.arctan2(np.sqrt(np.add.reduce(v * v, axis=0)), quat[0])
     p2 = phi * phi
     ratio = 2.0 + p2 / 12.0 + 7.0 * p2 * p2 / 2880.0
-    ratio[~small] = phi[~small] / np.sin(phi[~small] / 2.0)
-    return np.degrees(ratio[:, None] * v)
+    np.divide(phi, np.sin(phi / 2.0), out=ratio, where=~(phi <= 1e-3))
+    out = np.empty((len(q), 3))
+    np.multiply(ratio, v, out=out.T)
+    return np.degrees(out, out=out)
 
 
 def _scheme_name(scheme) -> str:
