@@ -527,7 +527,8 @@ def _check_units(units: Optional[Mapping[str, str]], arrays: Mapping[str, np.nda
     return {name: out[name] for name in arrays if name in out}
 
 
-#: The JSON values returned as they are, by exact type (most of a run's metadata).
+#: The JSON values a container's walk keeps as they are, by exact type (with finite floats: most
+#: of a run's metadata), without a call each.
 _PLAIN_JSON_TYPES = frozenset((str, int, bool, type(None)))
 
 
@@ -536,8 +537,10 @@ def _to_json_value(value: Any, where: Any) -> Any:
     what JSON cannot hold, ValueError for NaN or inf. ``where`` names ``value`` in the error: a
     string, or (the container's ``where``, key or index), formatted only when raising."""
     kind = type(value)
-    if kind in _PLAIN_JSON_TYPES or (kind is float and math.isfinite(value)):
-        return value
+    if kind is dict:
+        return _json_dict(value, where)
+    if kind is list or kind is tuple:
+        return _json_list(value, where)
     if isinstance(value, np.ndarray):
         value = value.tolist()
     elif isinstance(value, np.generic):
@@ -549,16 +552,26 @@ def _to_json_value(value: Any, where: Any) -> Any:
             raise ValueError(f"{_where_text(where)} must be finite, got {value!r}")
         return value
     if isinstance(value, (list, tuple)):
-        return [_to_json_value(v, (where, k)) for k, v in enumerate(value)]
-    if isinstance(value, (dict, Mapping)):
-        out = {}
-        for key, v in value.items():
-            if not isinstance(key, str):
-                raise TypeError(f"{_where_text(where)} keys must be strings, got {key!r}")
-            out[key] = _to_json_value(v, (where, key))
-        return out
+        return _json_list(value, where)
+    if isinstance(value, Mapping):
+        return _json_dict(value, where)
     raise TypeError(f"{_where_text(where)} must be JSON-compatible (None, bool, int, float, str, list, "
                     f"dict), got {type(value).__name__}")
+
+
+def _json_list(values: Any, where: Any) -> list:
+    return [v if type(v) in _PLAIN_JSON_TYPES or (type(v) is float and math.isfinite(v))
+            else _to_json_value(v, (where, k)) for k, v in enumerate(values)]
+
+
+def _json_dict(mapping: Mapping, where: Any) -> dict:
+    out = {}
+    for key, v in mapping.items():
+        if not isinstance(key, str):
+            raise TypeError(f"{_where_text(where)} keys must be strings, got {key!r}")
+        out[key] = (v if type(v) in _PLAIN_JSON_TYPES or (type(v) is float and math.isfinite(v))
+                    else _to_json_value(v, (where, key)))
+    return out
 
 
 def _where_text(where: Any) -> str:
