@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import datetime
 import functools
+import math
 from dataclasses import dataclass, field
 from typing import Callable, Mapping, Optional, Sequence, Union
 
@@ -43,6 +44,7 @@ SERIES_UNITS = {
 }
 
 
+@functools.cache  # imported at the first run (deployfx imports this module first), then kept
 def _version() -> str:
     from . import __version__
 
@@ -377,9 +379,8 @@ class Model:
         meta.update(base_free=self.base_free, hinges=hinge_info,
                     nodes={str(k): [int(i) for i in v] for k, v in node_sets.items()})
         if len(raw["t"]):  # the momentum the bodies carry: the scale of its conservation error
-            scale = {"P_N_s": float(np.max(raw["momentum_scale_P"])),
-                     "H_N_m_s": float(np.max(raw["momentum_scale_H"]))}
-            if all(np.isfinite(v) for v in scale.values()):  # not when a divergent run overflowed it
+            scale = {"P_N_s": float(raw["momentum_scale_P"].max()), "H_N_m_s": float(raw["momentum_scale_H"].max())}
+            if all(map(math.isfinite, scale.values())):  # not when a divergent run overflowed it
                 meta["momentum_scale"] = scale
         if resume is not None:
             meta["resumed_from_s"] = float(resume.t)
@@ -461,6 +462,12 @@ class Model:
         return out
 
     def _hinge_metadata(self) -> list:
+        """A run's metadata ``hinges``: a fresh dict a hinge, for the run's own keys (impacts, stress)."""
+        return [dict(info) for info in self._hinges_described]
+
+    @functools.cached_property
+    def _hinges_described(self) -> tuple:
+        """What a run's metadata says of each hinge before the run's own keys: the model's, taken once."""
         out = []
         for k, L in enumerate(self.links):
             lay = self.core.layout(k)
@@ -480,7 +487,7 @@ class Model:
                 info.update(modes=b["modes"], static_corrections=b["static_corrections"],
                             modal_derivatives=b["modal_derivatives"], basis_size=b["size"])
             out.append(info)
-        return out
+        return tuple(out)
 
     def _series(self, raw: dict) -> dict:
         q = raw["q"]
