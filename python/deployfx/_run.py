@@ -54,7 +54,7 @@ def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float
                 steps=int(raw["steps"]), substeps=int(raw["substeps"]), rejected=int(raw["rejected"]),
                 events=int(raw["events"]), contact_steps=int(raw["contact_steps"]), tolerance=tolerance,
                 newton_tolerance=newton_tolerance,
-                newton_iterations=int(np.sum(raw["newton_iterations"])),
+                newton_iterations=int(sum(raw["newton_iterations"])),  # a list of ints
                 factorizations=int(raw["factorizations"]), wall_time_s=wall)
     if conservative:  # report the growth first: it explains a later Newton failure
         raw["failure"] = "; then ".join(m for m in (_energy_growth(raw, energy_baseline), raw["failure"]) if m)
@@ -71,6 +71,7 @@ def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float
 #: Energy growth (J, relative to the peak kinetic energy) beyond which an undriven run is
 #: declared diverged: the trapezoidal rule's O(dt^2) energy error is orders below it.
 ENERGY_GROWTH_LIMIT = 0.1
+_TINY = float(np.finfo(float).tiny)
 
 
 def _energy_growth(raw: dict, baseline=None) -> str:
@@ -84,12 +85,12 @@ def _energy_growth(raw: dict, baseline=None) -> str:
     if not len(E):
         return ""
     E0, peak = (E[0], 0.0) if baseline is None else baseline
-    scale = max(raw["kinetic_energy"].max(), peak, np.finfo(float).tiny)
+    scale = max(raw["kinetic_energy"].max(), peak, _TINY)
     excess = (E - E0) / scale
-    over = np.flatnonzero(~(excess <= ENERGY_GROWTH_LIMIT))  # NaN counts as growth
-    if over.size == 0:
+    over = ~(excess <= ENERGY_GROWTH_LIMIT)  # NaN counts as growth
+    if not over.any():
         return ""
-    k = over[0]
+    k = int(over.argmax())  # the first
     return (f"diverged: the total energy grew by {excess[k]:.3g} x the peak kinetic energy at "
             f"t = {raw['t'][k]:.6g} s although nothing in the scene adds energy (a step beyond the "
             f"scheme's stability limit, or too large for a stiff contact); use a smaller dt or error-controlled steps "

@@ -86,7 +86,7 @@ def per_hinge(table: Mapping[str, np.ndarray], names: list) -> list[list[dict]]:
     record dicts (:meth:`Impact.as_dict`), in order of onset; ``names[k]`` names hinge k's
     contacts (:func:`contact_names`)."""
     out: list[list[dict]] = [[] for _ in names]
-    if not table:
+    if not (table and len(table["t_onset"])):
         return out
     # Each column as Python numbers (floats, ints) in one call, not an entry at a time.
     for row in zip(*(np.asarray(table[key]).tolist() for key in _TABLE_COLUMNS)):
