@@ -2,6 +2,7 @@
 and the progress bar, shared by :class:`deployfx.Model` and :class:`deployfx.chain.ChainModel`."""
 from __future__ import annotations
 
+import math
 import sys
 import time
 from typing import Callable, Optional
@@ -31,13 +32,13 @@ def _run_arguments(t_end, dt, scheme, tolerance) -> tuple:
     """(t_end, dt, tolerance (0: fixed steps), scheme) checked for a run; ValueError or TypeError
     naming the bad one."""
     t_end, dt = as_float("t_end", t_end), as_float("dt", dt)
-    if not (np.isfinite(dt) and dt > 0):
+    if not (math.isfinite(dt) and dt > 0):
         raise ValueError(f"dt = {dt} is out of range: must be > 0 (s)")
-    if not (np.isfinite(t_end) and t_end >= 0):
+    if not (math.isfinite(t_end) and t_end >= 0):
         raise ValueError(f"t_end = {t_end} is out of range: must be >= 0 (s)")
     scheme = _check_scheme(scheme)
     tol = 0.0 if tolerance is None else as_float("tolerance", tolerance)
-    if not (np.isfinite(tol) and tol >= 0):
+    if not (math.isfinite(tol) and tol >= 0):
         raise ValueError(f"tolerance = {tol} is out of range: must be > 0 (m or rad) or None")
     return t_end, dt, tol, scheme
 
