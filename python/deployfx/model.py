@@ -66,7 +66,6 @@ class Model:
     #: Per hinge: the unit direction (C_k axes) in which the hinge's rotation moves the tip node;
     #: the tip deflection is the tip's elastic displacement along it (negative: lagging).
     tip_directions: tuple = field(default=(), repr=False)
-    _tip_rows: tuple = field(default=(), repr=False)
 
     # ---------------------------------------------------------------------------- the scene
     @property
@@ -489,18 +488,22 @@ class Model:
             out.append(info)
         return tuple(out)
 
+    @functools.cached_property
+    def _tips(self) -> tuple:
+        """Per hinge: its deforming panel's tip node's translations (_NodeTranslations), else None."""
+        return tuple(self._node_translations(k, [node]) if deforming else None
+                     for k, (node, deforming) in enumerate(zip(self.tip_nodes, self.deforming)))
+
     def _series(self, raw: dict) -> dict:
         q = raw["q"]
         n, H = len(q), self.num_hinges
         stowed = np.array([L.hinge.stowed_angle_deg for L in self.links])
         tip = np.zeros((n, H, 3))
         deflection = np.zeros((n, H))
-        for k, rows in enumerate(self._tip_rows):
-            if rows is None:
-                continue
-            lay = self.core.layout(k)
-            tip[:, k] = q[:, lay["iq_elastic"]:lay["iq_elastic"] + lay["num_elastic"]] @ rows.T
-            deflection[:, k] = tip[:, k] @ self.tip_directions[k]
+        for k, translations in enumerate(self._tips):
+            if translations is not None:
+                tip[:, k] = translations(q)[:, 0]
+                deflection[:, k] = tip[:, k] @ self.tip_directions[k]
         return {
             "t": raw["t"],
             "deployment_angle": stowed + np.degrees(raw["theta"]),
