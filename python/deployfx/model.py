@@ -336,8 +336,8 @@ class Model:
         stressed = self._stressed_panels() if stresses else []
         if resume is not None:
             q0, v0 = resume.q, resume.v
-        q0 = self.initial_positions() if q0 is None else _state("q0", q0, self.num_positions)
-        v0 = np.zeros(self.num_velocities) if v0 is None else _state("v0", v0, self.num_velocities)
+        q0 = self._rest[0] if q0 is None else _state("q0", q0, self.num_positions)
+        v0 = self._rest[1] if v0 is None else _state("v0", v0, self.num_velocities)
         node_sets = self._node_sets(nodes)
         should_stop = None if stop is None else (lambda: bool(stop()))
         raw, wall = _timed_run(lambda progress: _core.simulate(
@@ -489,6 +489,15 @@ class Model:
         return tuple(out)
 
     @functools.cached_property
+    def _rest(self) -> tuple:
+        """(q, v, the hinges' stowed angles (deg)) at rest stowed, read-only: a run's defaults."""
+        rest = (self.initial_positions(), np.zeros(self.num_velocities),
+                np.array([L.hinge.stowed_angle_deg for L in self.links]))
+        for a in rest:
+            a.flags.writeable = False
+        return rest
+
+    @functools.cached_property
     def _tips(self) -> tuple:
         """Per hinge: its deforming panel's tip node's translations (_NodeTranslations), else None."""
         return tuple(self._node_translations(k, [node]) if deforming else None
@@ -497,7 +506,7 @@ class Model:
     def _series(self, raw: dict) -> dict:
         q = raw["q"]
         n, H = len(q), self.num_hinges
-        stowed = np.array([L.hinge.stowed_angle_deg for L in self.links])
+        stowed = self._rest[2]
         tip = np.zeros((n, H, 3))
         deflection = np.zeros((n, H))
         for k, translations in enumerate(self._tips):
