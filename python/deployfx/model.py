@@ -371,8 +371,7 @@ class Model:
         meta.update(self.description)
         meta.update(metadata or {})
         hinge_info = hinge_info if stresses else self._hinge_metadata()
-        names = [impacts.contact_names(L.lock) for L in self.links]
-        for k, records in enumerate(impacts.per_hinge(raw["impacts"], names)):
+        for k, records in enumerate(impacts.per_hinge(raw["impacts"], self._contact_names)):
             if self.links[k].lock is not None:
                 hinge_info[k]["impacts"] = records
         meta.update(base_free=self.base_free, hinges=hinge_info,
@@ -496,6 +495,11 @@ class Model:
         for a in rest:
             a.flags.writeable = False
         return rest
+
+    @functools.cached_property
+    def _contact_names(self) -> tuple:
+        """Per hinge: its lock's contacts by the engine's index (impacts.contact_names)."""
+        return tuple(impacts.contact_names(L.lock) for L in self.links)
 
     @functools.cached_property
     def _tips(self) -> tuple:

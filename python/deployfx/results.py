@@ -112,7 +112,7 @@ class Result:
 
     def __init__(self, series: Mapping[str, Any], units: Optional[Mapping[str, str]] = None,
                  metadata: Optional[Mapping[str, Any]] = None):
-        if not isinstance(series, Mapping):
+        if not isinstance(series, (dict, Mapping)):  # a dict without typing's ABC check
             raise TypeError(f"series must be a mapping of name to array, "
                             f"got {type(series).__name__}")
         if "t" not in series:
@@ -494,7 +494,7 @@ def _frozen_copies(arrays: list[tuple[str, np.ndarray]]) -> dict[str, np.ndarray
         groups.setdefault(a.dtype, []).append((name, a))
     views = {}
     for dtype, group in groups.items():
-        buffer = np.empty(sum(a.size for _, a in group), dtype=dtype)
+        buffer = np.empty(sum([a.size for _, a in group]), dtype=dtype)
         np.concatenate([a.ravel() for _, a in group], out=buffer)
         if not np.isfinite(buffer).all():
             _check_finite(arrays)
