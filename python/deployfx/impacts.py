@@ -88,19 +88,20 @@ def per_hinge(table: Mapping[str, np.ndarray], names: list) -> list[list[dict]]:
     out: list[list[dict]] = [[] for _ in names]
     if not (table and len(table["t_onset"])):
         return out
-    # Each column as Python numbers (floats, ints) in one call, not an entry at a time.
+    # Each column as Python numbers (floats, ints) in one call, not an entry at a time; each record
+    # as Impact(...).as_dict() gives it (the columns are in the fields' order), without the
+    # frozen dataclass's construction.
     for row in zip(*(np.asarray(table[key]).tolist() for key in _TABLE_COLUMNS)):
         k, wall, t_onset, t_separation, v_approach, v_rebound, peak, t_peak, impulse, penetration, steps = row
-        out[k].append(Impact(
-            hinge=k, wall=names[k][wall], t_onset_s=t_onset, t_separation_s=_number(t_separation),
-            v_approach_m_s=v_approach, v_rebound_m_s=_number(v_rebound), peak_force_N=peak, t_peak_s=t_peak,
-            impulse_N_s=impulse, max_penetration_m=penetration, steps=steps).as_dict())
+        out[k].append(dict(zip(_FIELDS, (k, names[k][wall], t_onset, _number(t_separation), v_approach,
+                                         _number(v_rebound), peak, t_peak, impulse, penetration, steps))))
     return out
 
 
-#: The engine's impact table's columns, in the order per_hinge reads them.
+#: The engine's impact table's columns, in the order of Impact's fields (_FIELDS).
 _TABLE_COLUMNS = ("hinge", "wall", "t_onset", "t_separation", "v_approach", "v_rebound", "peak_force", "t_peak",
                   "impulse", "max_penetration", "steps")
+_FIELDS = tuple(Impact.__dataclass_fields__)
 
 
 def strongest(records) -> Optional[Impact]:
