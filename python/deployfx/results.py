@@ -560,11 +560,14 @@ def _to_json_value(value: Any, where: Any) -> Any:
 
 
 def _json_list(values: Any, where: Any) -> list:
+    """_to_json_value of a list or tuple's items: plain values (the test repeated in _json_dict)
+    kept without a call each."""
     return [v if type(v) in _PLAIN_JSON_TYPES or (type(v) is float and math.isfinite(v))
             else _to_json_value(v, (where, k)) for k, v in enumerate(values)]
 
 
 def _json_dict(mapping: Mapping, where: Any) -> dict:
+    """_to_json_value of a mapping's values, its keys checked to be strings (as _json_list)."""
     out = {}
     for key, v in mapping.items():
         if not isinstance(key, str):

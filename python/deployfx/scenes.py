@@ -169,7 +169,7 @@ class Paper2016Scene:
         # Node E: the free-end corner (x = L, y = W); also the free end's mid-width node.
         self.node_E = p.ny * (p.nx + 1) + p.nx
         self.node_mid = (p.ny // 2) * (p.nx + 1) + p.nx
-        self._translations = [self.model._node_translations(0, [node]) for node in (self.node_E, self.node_mid)]
+        self._translations = tuple(self.model._node_translations(0, [node]) for node in (self.node_E, self.node_mid))
 
     def _series(self, model: Model, raw: dict) -> dict:
         E, mid = self._translations  # of self.model, the one model that calls this
