@@ -8,6 +8,8 @@ import numpy as np
 
 def as_float(name: str, value: object) -> float:
     """``value`` as a float, or TypeError naming ``name``."""
+    if type(value) is float:  # the common case, without the ABC's check
+        return value
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
     return float(value)

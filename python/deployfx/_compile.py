@@ -36,7 +36,7 @@ def compile_model(scene, description: Optional[dict]) -> Model:
     body = base.part
     for p in scene.base_parts:
         body = body + p
-    specs, tips, dirs, rows = [], [], [], []
+    specs, tips, dirs = [], [], []
     children = {k: [] for k in range(len(scene.links))}
     for k, link in enumerate(scene.links):
         if link.hinge.parent != "base":
@@ -82,8 +82,5 @@ def compile_model(scene, description: Optional[dict]) -> Model:
                                                                     com=body.com,
                                                                     inertia=body.inertia if base.free else np.eye(3)),
                        hinges=specs)
-    for k in range(len(specs)):
-        D = core.displacement_map(k)
-        rows.append(None if D.size == 0 else D[6 * tips[k]:6 * tips[k] + 3].copy())
     return Model(core=core, base_free=base.free, links=scene.links, description=dict(description or {}),
-                 tip_nodes=tuple(tips), tip_directions=tuple(dirs), _tip_rows=tuple(rows))
+                 tip_nodes=tuple(tips), tip_directions=tuple(dirs))

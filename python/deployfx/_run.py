@@ -2,6 +2,7 @@
 and the progress bar, shared by :class:`deployfx.Model` and :class:`deployfx.chain.ChainModel`."""
 from __future__ import annotations
 
+import math
 import sys
 import time
 from typing import Callable, Optional
@@ -31,13 +32,13 @@ def _run_arguments(t_end, dt, scheme, tolerance) -> tuple:
     """(t_end, dt, tolerance (0: fixed steps), scheme) checked for a run; ValueError or TypeError
     naming the bad one."""
     t_end, dt = as_float("t_end", t_end), as_float("dt", dt)
-    if not (np.isfinite(dt) and dt > 0):
+    if not (math.isfinite(dt) and dt > 0):
         raise ValueError(f"dt = {dt} is out of range: must be > 0 (s)")
-    if not (np.isfinite(t_end) and t_end >= 0):
+    if not (math.isfinite(t_end) and t_end >= 0):
         raise ValueError(f"t_end = {t_end} is out of range: must be >= 0 (s)")
     scheme = _check_scheme(scheme)
     tol = 0.0 if tolerance is None else as_float("tolerance", tolerance)
-    if not (np.isfinite(tol) and tol >= 0):
+    if not (math.isfinite(tol) and tol >= 0):
         raise ValueError(f"tolerance = {tol} is out of range: must be > 0 (m or rad) or None")
     return t_end, dt, tol, scheme
 
@@ -54,7 +55,7 @@ def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float
                 steps=int(raw["steps"]), substeps=int(raw["substeps"]), rejected=int(raw["rejected"]),
                 events=int(raw["events"]), contact_steps=int(raw["contact_steps"]), tolerance=tolerance,
                 newton_tolerance=newton_tolerance,
-                newton_iterations=int(np.sum(raw["newton_iterations"])),
+                newton_iterations=int(sum(raw["newton_iterations"])),  # a list of ints
                 factorizations=int(raw["factorizations"]), wall_time_s=wall)
     if conservative:  # report the growth first: it explains a later Newton failure
         raw["failure"] = "; then ".join(m for m in (_energy_growth(raw, energy_baseline), raw["failure"]) if m)
@@ -71,6 +72,7 @@ def _run_result(raw: dict, out: dict, units: dict, meta: dict, scheme, dt: float
 #: Energy growth (J, relative to the peak kinetic energy) beyond which an undriven run is
 #: declared diverged: the trapezoidal rule's O(dt^2) energy error is orders below it.
 ENERGY_GROWTH_LIMIT = 0.1
+_TINY = float(np.finfo(float).tiny)
 
 
 def _energy_growth(raw: dict, baseline=None) -> str:
@@ -84,12 +86,12 @@ def _energy_growth(raw: dict, baseline=None) -> str:
     if not len(E):
         return ""
     E0, peak = (E[0], 0.0) if baseline is None else baseline
-    scale = max(raw["kinetic_energy"].max(), peak, np.finfo(float).tiny)
+    scale = max(raw["kinetic_energy"].max(), peak, _TINY)
     excess = (E - E0) / scale
-    over = np.flatnonzero(~(excess <= ENERGY_GROWTH_LIMIT))  # NaN counts as growth
-    if over.size == 0:
+    over = ~(excess <= ENERGY_GROWTH_LIMIT)  # NaN counts as growth
+    if not over.any():
         return ""
-    k = over[0]
+    k = int(over.argmax())  # the first
     return (f"diverged: the total energy grew by {excess[k]:.3g} x the peak kinetic energy at "
             f"t = {raw['t'][k]:.6g} s although nothing in the scene adds energy (a step beyond the "
             f"scheme's stability limit, or too large for a stiff contact); use a smaller dt or error-controlled steps "
@@ -145,15 +147,18 @@ def base_attitude_deg(q: np.ndarray, base_free: bool) -> np.ndarray:
     round-off; vectorised here, a third of its time: part of every run's post-processing)."""
     if not base_free:
         return np.zeros((len(q), 3))
-    quat = q[:, 3:7] / np.linalg.norm(q[:, 3:7], axis=1)[:, None]
-    quat = np.where(quat[:, :1] < 0, -quat, quat)
-    v = quat[:, 1:]
-    phi = 2.0 * np.arctan2(np.linalg.norm(v, axis=1), quat[:, 0])
-    small = phi <= 1e-3
+    # As component rows (4, n), contiguous, numpy's loops run along the samples: 2-3x faster than
+    # over rows of 4, with the same bits (the squares summed w, x, y, z in order, as np.linalg.norm
+    # sums a row); few calls, each costly after the engine's run has evicted numpy from the caches.
+    quat = np.ascontiguousarray(q[:, 3:7].T)
+    quat = quat / np.sqrt(np.add.reduce(quat * quat, axis=0))
+    np.negative(quat, out=quat, where=quat[0] < 0)
+    v = quat[1:]
+    phi = 2.0 * np.arctan2(np.sqrt(np.add.reduce(v * v, axis=0)), quat[0])
     p2 = phi * phi
     ratio = 2.0 + p2 / 12.0 + 7.0 * p2 * p2 / 2880.0
-    ratio[~small] = phi[~small] / np.sin(phi[~small] / 2.0)
-    return np.degrees(ratio[:, None] * v)
+    np.divide(phi, np.sin(phi / 2.0), out=ratio, where=phi > 1e-3)  # NaN either way for a NaN phi
+    return np.degrees(ratio * v).T
 
 
 def _scheme_name(scheme) -> str:

@@ -86,16 +86,22 @@ def per_hinge(table: Mapping[str, np.ndarray], names: list) -> list[list[dict]]:
     record dicts (:meth:`Impact.as_dict`), in order of onset; ``names[k]`` names hinge k's
     contacts (:func:`contact_names`)."""
     out: list[list[dict]] = [[] for _ in names]
-    n = len(table["t_onset"]) if table else 0
-    for i in range(n):
-        k = int(table["hinge"][i])
-        out[k].append(Impact(
-            hinge=k, wall=names[k][int(table["wall"][i])], t_onset_s=float(table["t_onset"][i]),
-            t_separation_s=_number(table["t_separation"][i]), v_approach_m_s=float(table["v_approach"][i]),
-            v_rebound_m_s=_number(table["v_rebound"][i]), peak_force_N=float(table["peak_force"][i]),
-            t_peak_s=float(table["t_peak"][i]), impulse_N_s=float(table["impulse"][i]),
-            max_penetration_m=float(table["max_penetration"][i]), steps=int(table["steps"][i])).as_dict())
+    if not (table and len(table["t_onset"])):
+        return out
+    # Each column as Python numbers (floats, ints) in one call, not an entry at a time; each record
+    # as Impact(...).as_dict() gives it (the columns are in the fields' order), without the
+    # frozen dataclass's construction.
+    for row in zip(*(np.asarray(table[key]).tolist() for key in _TABLE_COLUMNS)):
+        k, wall, t_onset, t_separation, v_approach, v_rebound, peak, t_peak, impulse, penetration, steps = row
+        out[k].append(dict(zip(_FIELDS, (k, names[k][wall], t_onset, _number(t_separation), v_approach,
+                                         _number(v_rebound), peak, t_peak, impulse, penetration, steps))))
     return out
+
+
+#: The engine's impact table's columns, in the order of Impact's fields (_FIELDS).
+_TABLE_COLUMNS = ("hinge", "wall", "t_onset", "t_separation", "v_approach", "v_rebound", "peak_force", "t_peak",
+                  "impulse", "max_penetration", "steps")
+_FIELDS = tuple(Impact.__dataclass_fields__)
 
 
 def strongest(records) -> Optional[Impact]:

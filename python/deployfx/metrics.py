@@ -37,8 +37,8 @@ def _as_time(t: object, name: str = "t") -> np.ndarray:
     a = a.astype(float, copy=False)
     _check_finite(name, a)
     if a.size > 1:
-        steps = np.diff(a)
-        if not np.all(steps > 0):
+        steps = a[1:] - a[:-1]  # np.diff's
+        if not (steps > 0).all():
             k = int(np.flatnonzero(steps <= 0)[0])
             raise ValueError(f"{name} must be strictly increasing, got {name}[{k}] = {a[k]!r} "
                              f"followed by {name}[{k + 1}] = {a[k + 1]!r}")

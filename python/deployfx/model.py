@@ -14,9 +14,10 @@ mesh dofs, m and rad, or its Ritz coordinates, kg^0.5 m): ``Model.layout(k)`` sa
 """
 from __future__ import annotations
 
-import datetime
 import functools
+import math
 from dataclasses import dataclass, field
+from time import gmtime, strftime
 from typing import Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
@@ -43,6 +44,7 @@ SERIES_UNITS = {
 }
 
 
+@functools.cache  # imported at the first run (deployfx imports this module first), then kept
 def _version() -> str:
     from . import __version__
 
@@ -64,7 +66,6 @@ class Model:
     #: Per hinge: the unit direction (C_k axes) in which the hinge's rotation moves the tip node;
     #: the tip deflection is the tip's elastic displacement along it (negative: lagging).
     tip_directions: tuple = field(default=(), repr=False)
-    _tip_rows: tuple = field(default=(), repr=False)
 
     # ---------------------------------------------------------------------------- the scene
     @property
@@ -171,17 +172,24 @@ class Model:
         shape (n, len(nodes), 3) (``nodes`` None: all of them)."""
         k = self._hinge(hinge, panel=True)
         q = self._q(q)
+        return self._node_translations(k, nodes)(q)
+
+    def _node_translations(self, hinge: Optional[int] = None,
+                          nodes: Optional[Sequence[int]] = None) -> "_NodeTranslations":
+        """:meth:`node_displacements` of these nodes as a function of ``q``, the displacement map's
+        rows taken once (a scene's series at every run: ``translations(q)``, no checks of ``q``)."""
+        k = self._hinge(hinge, panel=True)
         n_nodes = self.shells[k].num_dofs // 6
         idx = np.arange(n_nodes) if nodes is None else np.asarray(nodes, dtype=int)
         if idx.size and (idx.min() < 0 or idx.max() >= n_nodes):
             raise ValueError(f"nodes must lie in [0, {n_nodes}) (the panel's nodes)")
         lay = self.core.layout(k)
         if lay["num_elastic"] == 0:
-            return np.zeros((len(q), idx.size, 3))
+            return _NodeTranslations(idx.size, None, 0)
         rows = (6 * idx[:, None] + np.arange(3)[None]).ravel()
         D = self.core.displacement_map(k)[rows]
-        eta = q[:, lay["iq_elastic"]:lay["iq_elastic"] + lay["num_elastic"]]
-        return (eta @ D.T).reshape(len(q), idx.size, 3)
+        D.flags.writeable = False
+        return _NodeTranslations(idx.size, D, lay["iq_elastic"])
 
     def frames(self, q, t=None) -> tuple[np.ndarray, np.ndarray]:
         """Every body frame C_k in W at each recorded ``q`` (and time ``t``, for prescribed
@@ -328,8 +336,8 @@ class Model:
         stressed = self._stressed_panels() if stresses else []
         if resume is not None:
             q0, v0 = resume.q, resume.v
-        q0 = self.initial_positions() if q0 is None else _state("q0", q0, self.num_positions)
-        v0 = np.zeros(self.num_velocities) if v0 is None else _state("v0", v0, self.num_velocities)
+        q0 = self._rest[0] if q0 is None else _state("q0", q0, self.num_positions)
+        v0 = self._rest[1] if v0 is None else _state("v0", v0, self.num_velocities)
         node_sets = self._node_sets(nodes)
         should_stop = None if stop is None else (lambda: bool(stop()))
         raw, wall = _timed_run(lambda progress: _core.simulate(
@@ -359,20 +367,18 @@ class Model:
             out["max_failure_index"] = peak
             all_units["max_failure_index"] = "1"
         meta = {"deployfx_version": _version(),
-                "run_started_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
+                "run_started_utc": strftime("%Y-%m-%dT%H:%M:%S+00:00", gmtime())}  # isoformat's, cheaper
         meta.update(self.description)
         meta.update(metadata or {})
         hinge_info = hinge_info if stresses else self._hinge_metadata()
-        names = [impacts.contact_names(L.lock) for L in self.links]
-        for k, records in enumerate(impacts.per_hinge(raw["impacts"], names)):
+        for k, records in enumerate(impacts.per_hinge(raw["impacts"], self._contact_names)):
             if self.links[k].lock is not None:
                 hinge_info[k]["impacts"] = records
         meta.update(base_free=self.base_free, hinges=hinge_info,
                     nodes={str(k): [int(i) for i in v] for k, v in node_sets.items()})
         if len(raw["t"]):  # the momentum the bodies carry: the scale of its conservation error
-            scale = {"P_N_s": float(np.max(raw["momentum_scale_P"])),
-                     "H_N_m_s": float(np.max(raw["momentum_scale_H"]))}
-            if all(np.isfinite(v) for v in scale.values()):  # not when a divergent run overflowed it
+            scale = {"P_N_s": float(raw["momentum_scale_P"].max()), "H_N_m_s": float(raw["momentum_scale_H"].max())}
+            if all(map(math.isfinite, scale.values())):  # not when a divergent run overflowed it
                 meta["momentum_scale"] = scale
         if resume is not None:
             meta["resumed_from_s"] = float(resume.t)
@@ -454,6 +460,12 @@ class Model:
         return out
 
     def _hinge_metadata(self) -> list:
+        """A run's metadata ``hinges``: a fresh dict a hinge, for the run's own keys (impacts, stress)."""
+        return [dict(info) for info in self._hinges_described]
+
+    @functools.cached_property
+    def _hinges_described(self) -> tuple:
+        """What a run's metadata says of each hinge before the run's own keys: the model's, taken once."""
         out = []
         for k, L in enumerate(self.links):
             lay = self.core.layout(k)
@@ -473,20 +485,38 @@ class Model:
                 info.update(modes=b["modes"], static_corrections=b["static_corrections"],
                             modal_derivatives=b["modal_derivatives"], basis_size=b["size"])
             out.append(info)
-        return out
+        return tuple(out)
+
+    @functools.cached_property
+    def _rest(self) -> tuple:
+        """(q, v, the hinges' stowed angles (deg)) at rest stowed, read-only: a run's defaults."""
+        rest = (self.initial_positions(), np.zeros(self.num_velocities),
+                np.array([L.hinge.stowed_angle_deg for L in self.links]))
+        for a in rest:
+            a.flags.writeable = False
+        return rest
+
+    @functools.cached_property
+    def _contact_names(self) -> tuple:
+        """Per hinge: its lock's contacts by the engine's index (impacts.contact_names)."""
+        return tuple(impacts.contact_names(L.lock) for L in self.links)
+
+    @functools.cached_property
+    def _tips(self) -> tuple:
+        """Per hinge: its deforming panel's tip node's translations (_NodeTranslations), else None."""
+        return tuple(self._node_translations(k, [node]) if deforming else None
+                     for k, (node, deforming) in enumerate(zip(self.tip_nodes, self.deforming)))
 
     def _series(self, raw: dict) -> dict:
         q = raw["q"]
         n, H = len(q), self.num_hinges
-        stowed = np.array([L.hinge.stowed_angle_deg for L in self.links])
+        stowed = self._rest[2]
         tip = np.zeros((n, H, 3))
         deflection = np.zeros((n, H))
-        for k, rows in enumerate(self._tip_rows):
-            if rows is None:
-                continue
-            lay = self.core.layout(k)
-            tip[:, k] = q[:, lay["iq_elastic"]:lay["iq_elastic"] + lay["num_elastic"]] @ rows.T
-            deflection[:, k] = tip[:, k] @ self.tip_directions[k]
+        for k, translations in enumerate(self._tips):
+            if translations is not None:
+                tip[:, k] = translations(q)[:, 0]
+                deflection[:, k] = tip[:, k] @ self.tip_directions[k]
         return {
             "t": raw["t"],
             "deployment_angle": stowed + np.degrees(raw["theta"]),
@@ -501,6 +531,23 @@ class Model:
             "kinetic_energy": raw["kinetic_energy"], "potential_energy": raw["potential_energy"],
             "q": q, "v": raw["v"],
         }
+
+
+@dataclass(frozen=True)
+class _NodeTranslations:
+    """Translations (m, (n, count, 3), C_k axes) of ``count`` nodes of a panel at each recorded
+    ``q``: ``rows`` (3 count x num_elastic) of its displacement map times its elastic coordinates
+    (q's columns from ``start``); zeros for a panel that does not deform (``rows`` None)."""
+
+    count: int
+    rows: Optional[np.ndarray]
+    start: int
+
+    def __call__(self, q: np.ndarray) -> np.ndarray:
+        if self.rows is None:
+            return np.zeros((len(q), self.count, 3))
+        eta = q[:, self.start:self.start + self.rows.shape[1]]
+        return (eta @ self.rows.T).reshape(len(q), self.count, 3)
 
 
 def _state(name: str, value, n: int) -> np.ndarray:
