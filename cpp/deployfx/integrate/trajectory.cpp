@@ -105,7 +105,7 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
   double h_contact = h;  // the next step while a contact is resolved
   // The last contact's bounds, kept after it ends until the steps are back at h: the accelerations
   // the scheme carries out of a contact (a_n) are the contact's, and a full step right after it
-  // amplifies them by h^2 (0.5 - beta) (on the undamped 2 x 1 paper scene a 8.7 ms step after a
+  // amplifies them by h^2 (0.5 - beta) (on the undamped 2 x 1 paper scene an 8.7 ms step after a
   // 96 us contact added 1 % of the peak kinetic energy). The error estimate lets the steps grow
   // back (at most 2x a step) once the history has passed.
   SecondOrderSystem::StepBounds contact_bounds;
@@ -229,7 +229,9 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
         }
         s = std::move(best);
         // Every event within the location tolerance of its switch switches here too: events
-        // simultaneous to round-off (symmetric contacts) must not part by a tiny step.
+        // simultaneous to round-off (symmetric contacts) must not part by a tiny step. The
+        // tolerance is relative to the larger of the event's start value and its change over the
+        // step: a separating wall's force at the start of a short contact step can be small.
         Eigen::VectorXd margin = Eigen::VectorXd::Zero(g0.size());
         for (Eigen::Index i = 0; i < g0.size(); ++i)
           if (g0(i) > 0 && std::isfinite(g0(i)))

@@ -73,10 +73,10 @@ void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::Vect
         // alone to resolve (rebound_time_scale 0). The panel behind it still rebounds on the
         // wall's Hertz stiffness, over the time scale of the hinge's inertia with the panel held
         // rigid (the paper's panel: 6 ms at the first lock's 33 mm/s, against the pin's m/D =
-        // 22 us): that contact is resolved. Stepped over at dt instead (omega h ~ 1 at the
-        // latch's 1e3 N), the undamped rattle on the walls pumped energy into the panel on one
-        // trajectory in ten, and the damped scene's node E was 4e-3 off (issue 29,
-        // docs/research/undamped-stability.md).
+        // 22 us): that contact is resolved, to kPanelContactResolution of its penetration scale.
+        // Stepped over at dt instead (omega h ~ 1 at the latch's 1e3 N), the undamped rattle on
+        // the walls pumped energy into the panel on one trajectory in ten, and the damped scene's
+        // largest tip displacement was 3.6e-3 off (issue 29, docs/research/undamped-stability.md).
         if (!inverse_inertia) inverse_inertia = hinge_inverse_inertia(m, d, q, t, k);
         const double lever = joint::contact_lever(lock, h, c, theta);
         const double v0 = joint::contact_v0(h, c);
