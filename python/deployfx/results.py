@@ -53,9 +53,6 @@ or altered file with a ValueError naming it. Files written before the checksum (
 from __future__ import annotations
 
 import copy
-import functools
-import keyword
-import math
 import os
 from pathlib import Path
 from typing import Any, Mapping, Optional, Union
@@ -63,6 +60,7 @@ from typing import Any, Mapping, Optional, Union
 import numpy as np
 
 from . import _result_file, metrics
+from ._result_checks import check_units, checked_arrays, frozen, frozen_copies, to_json_value
 from .metrics import _as_time
 
 PathLike = Union[str, os.PathLike]
@@ -117,12 +115,12 @@ class Result:
                             f"got {type(series).__name__}")
         if "t" not in series:
             raise ValueError(f"series must contain 't' (time, s), got {sorted(series)}")
-        t = _frozen(_as_time(series["t"]).copy())
+        t = frozen(_as_time(series["t"]).copy())
         arrays = {"t": t}
-        arrays.update(_frozen_copies(_checked_arrays(series, t.size)))
+        arrays.update(frozen_copies(checked_arrays(series, t.size, _RESERVED_NAMES)))
         self._series = arrays
-        self._units = _check_units(units, arrays)
-        self._metadata = _to_json_value(dict(metadata or {}), "metadata")
+        self._units = check_units(units, arrays)
+        self._metadata = to_json_value(dict(metadata or {}), "metadata")
 
     @property
     def series(self) -> tuple[str, ...]:
@@ -432,6 +430,9 @@ class Result:
 
 
 #: deg: the settling band of a deployment angle (Result.summary), unless the lock's play is wider.
+#: Names a series cannot take: the Result's own attributes (series are attributes too).
+_RESERVED_NAMES = frozenset(dir(Result))
+
 SETTLING_ANGLE_TOL_DEG = 0.1
 
 
@@ -448,142 +449,6 @@ def load(path: PathLike) -> Result:
         return Result(series, units, metadata)
     except (ValueError, TypeError) as e:
         raise ValueError(f"{path}: {e}") from e
-
-
-def _frozen(a: np.ndarray) -> np.ndarray:
-    a.flags.writeable = False
-    return a
-
-
-def _checked_arrays(series: Mapping[str, Any], n: int) -> list[tuple[str, np.ndarray]]:
-    """(name, array) of each series but ``t``, in order, its name, dtype and leading dimension
-    ``n`` checked (ValueError naming it); not yet copied, nor checked finite. A series that fails
-    after one holding NaN or inf reports that one's error, as a check of one series after the
-    other would."""
-    out = []
-    for name, value in series.items():
-        if name == "t":
-            continue
-        try:
-            _check_name(name)
-            a = np.asarray(value)
-            if a.dtype.kind not in "biuf":
-                raise ValueError(f"series {name!r} must hold real numbers, got dtype {a.dtype}")
-            if a.ndim == 0 or a.shape[0] != n:
-                raise ValueError(f"series {name!r} must have leading dimension len(t) = {n}, "
-                                 f"got shape {a.shape}")
-        except ValueError:
-            _check_finite(out)
-            raise
-        out.append((name, a))
-    return out
-
-
-def _check_finite(arrays: list[tuple[str, np.ndarray]]) -> None:
-    """ValueError naming the first of ``arrays`` ((name, array)) holding NaN or inf."""
-    for name, a in arrays:
-        metrics._check_finite(f"series {name!r}", a)
-
-
-def _frozen_copies(arrays: list[tuple[str, np.ndarray]]) -> dict[str, np.ndarray]:
-    """Read-only copies of ``arrays`` ((name, array), checked by _checked_arrays) by name, in
-    order; ValueError naming the first holding NaN or inf. The copies of one dtype are views of
-    one read-only buffer: one copy and one finiteness test a dtype, not one a series."""
-    groups: dict[np.dtype, list] = {}
-    for name, a in arrays:
-        groups.setdefault(a.dtype, []).append((name, a))
-    views = {}
-    for dtype, group in groups.items():
-        buffer = np.empty(sum([a.size for _, a in group]), dtype=dtype)
-        np.concatenate([a.ravel() for _, a in group], out=buffer)
-        if not np.isfinite(buffer).all():
-            _check_finite(arrays)
-        buffer.flags.writeable = False
-        start = 0
-        for name, a in group:
-            views[name] = buffer[start:start + a.size].reshape(a.shape)
-            start += a.size
-    return {name: views[name] for name, _ in arrays}
-
-
-@functools.lru_cache(maxsize=256)
-def _check_name(name: object) -> None:
-    if not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name):
-        raise ValueError(f"series names must be Python identifiers, got {name!r}")
-    if name.startswith("_") or hasattr(Result, name):
-        raise ValueError(f"series name {name!r} is reserved (leading underscore or an attribute "
-                         "of Result)")
-
-
-def _check_units(units: Optional[Mapping[str, str]], arrays: Mapping[str, np.ndarray]) -> dict:
-    out = {"t": "s"}
-    for name, unit in dict(units or {}).items():
-        if name not in arrays:
-            raise ValueError(f"units names {name!r}, which is not a series; series: {list(arrays)}")
-        if not isinstance(unit, str):
-            raise TypeError(f"units[{name!r}] must be a string, "
-                            f"got {type(unit).__name__} {unit!r}")
-        out[name] = unit
-    return {name: out[name] for name in arrays if name in out}
-
-
-#: The JSON values a container's walk keeps as they are, by exact type (with finite floats: most
-#: of a run's metadata), without a call each.
-_PLAIN_JSON_TYPES = frozenset((str, int, bool, type(None)))
-
-
-def _to_json_value(value: Any, where: Any) -> Any:
-    """``value`` in the form JSON gives back (tuples as lists, numpy as Python); TypeError for
-    what JSON cannot hold, ValueError for NaN or inf. ``where`` names ``value`` in the error: a
-    string, or (the container's ``where``, key or index), formatted only when raising."""
-    kind = type(value)
-    if kind is dict:
-        return _json_dict(value, where)
-    if kind is list or kind is tuple:
-        return _json_list(value, where)
-    if isinstance(value, np.ndarray):
-        value = value.tolist()
-    elif isinstance(value, np.generic):
-        value = value.item()
-    if value is None or isinstance(value, (bool, int, str)):
-        return value
-    if isinstance(value, float):
-        if not math.isfinite(value):
-            raise ValueError(f"{_where_text(where)} must be finite, got {value!r}")
-        return value
-    if isinstance(value, (list, tuple)):
-        return _json_list(value, where)
-    if isinstance(value, Mapping):
-        return _json_dict(value, where)
-    raise TypeError(f"{_where_text(where)} must be JSON-compatible (None, bool, int, float, str, list, "
-                    f"dict), got {type(value).__name__}")
-
-
-def _json_list(values: Any, where: Any) -> list:
-    """_to_json_value of a list or tuple's items: plain values (the test repeated in _json_dict)
-    kept without a call each."""
-    return [v if type(v) in _PLAIN_JSON_TYPES or (type(v) is float and math.isfinite(v))
-            else _to_json_value(v, (where, k)) for k, v in enumerate(values)]
-
-
-def _json_dict(mapping: Mapping, where: Any) -> dict:
-    """_to_json_value of a mapping's values, its keys checked to be strings (as _json_list)."""
-    out = {}
-    for key, v in mapping.items():
-        if not isinstance(key, str):
-            raise TypeError(f"{_where_text(where)} keys must be strings, got {key!r}")
-        out[key] = (v if type(v) in _PLAIN_JSON_TYPES or (type(v) is float and math.isfinite(v))
-                    else _to_json_value(v, (where, key)))
-    return out
-
-
-def _where_text(where: Any) -> str:
-    """The name of _to_json_value's ``where``: ``metadata['hinges'][0]``."""
-    keys = []
-    while isinstance(where, tuple):
-        where, key = where
-        keys.append(f"[{key!r}]" if isinstance(key, str) else f"[{key}]")
-    return where + "".join(reversed(keys))
 
 
 def _columns(name: str, a: np.ndarray, per_hinge: bool = False):
