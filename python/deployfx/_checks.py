@@ -67,3 +67,11 @@ def check_field_types(obj: object) -> None:
         elif isinstance(kind, type) and not isinstance(value, kind):
             raise TypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__} "
                             f"{value!r}")
+
+
+def finite_vector(name: str, value: object, n: int) -> np.ndarray:
+    """``value`` as ``n`` finite floats, or ValueError naming ``name`` (a state: q0, v0)."""
+    a = np.asarray(value, dtype=float)
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be {n} finite numbers, got shape {a.shape}")
+    return a

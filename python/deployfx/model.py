@@ -22,8 +22,10 @@ from typing import Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, impacts
+from . import _core, _node_rows, impacts
 from . import checkpoint as _checkpoint
+from ._checks import finite_vector
+from ._node_rows import node_translations
 from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg, newton_tolerance_arg
 from .integrators import GeneralizedAlpha
 from .results import Result
@@ -172,24 +174,7 @@ class Model:
         shape (n, len(nodes), 3) (``nodes`` None: all of them)."""
         k = self._hinge(hinge, panel=True)
         q = self._q(q)
-        return self._node_translations(k, nodes)(q)
-
-    def _node_translations(self, hinge: Optional[int] = None,
-                          nodes: Optional[Sequence[int]] = None) -> "_NodeTranslations":
-        """:meth:`node_displacements` of these nodes as a function of ``q``, the displacement map's
-        rows taken once (a scene's series at every run: ``translations(q)``, no checks of ``q``)."""
-        k = self._hinge(hinge, panel=True)
-        n_nodes = self.shells[k].num_dofs // 6
-        idx = np.arange(n_nodes) if nodes is None else np.asarray(nodes, dtype=int)
-        if idx.size and (idx.min() < 0 or idx.max() >= n_nodes):
-            raise ValueError(f"nodes must lie in [0, {n_nodes}) (the panel's nodes)")
-        lay = self.core.layout(k)
-        if lay["num_elastic"] == 0:
-            return _NodeTranslations(idx.size, None, 0)
-        rows = (6 * idx[:, None] + np.arange(3)[None]).ravel()
-        D = self.core.displacement_map(k)[rows]
-        D.flags.writeable = False
-        return _NodeTranslations(idx.size, D, lay["iq_elastic"])
+        return node_translations(self, k, nodes)(q)
 
     def frames(self, q, t=None) -> tuple[np.ndarray, np.ndarray]:
         """Every body frame C_k in W at each recorded ``q`` (and time ``t``, for prescribed
@@ -336,9 +321,9 @@ class Model:
         stressed = self._stressed_panels() if stresses else []
         if resume is not None:
             q0, v0 = resume.q, resume.v
-        q0 = self._rest[0] if q0 is None else _state("q0", q0, self.num_positions)
-        v0 = self._rest[1] if v0 is None else _state("v0", v0, self.num_velocities)
-        node_sets = self._node_sets(nodes)
+        q0 = self._rest[0] if q0 is None else finite_vector("q0", q0, self.num_positions)
+        v0 = self._rest[1] if v0 is None else finite_vector("v0", v0, self.num_velocities)
+        node_sets = _node_rows.node_sets(self, nodes)
         should_stop = None if stop is None else (lambda: bool(stop()))
         raw, wall = _timed_run(lambda progress: _core.simulate(
             self.core, q0, v0, t_end=t_end, dt=dt, scheme=scheme._params(), tolerance=tol,
@@ -437,28 +422,6 @@ class Model:
         force = result["lock_force"][:, k] if "lock_force" in result else np.zeros(len(result.t))
         return self._envelope(np.asarray(result.t), self._q(result["q"]), k, force, **options)
 
-    def _node_sets(self, nodes) -> dict:
-        if nodes is None:
-            return {}
-        panels = [k for k in range(self.num_hinges) if self.shells[k] is not None]
-        if isinstance(nodes, str):
-            if nodes != "all":
-                raise ValueError(f"nodes = {nodes!r} is invalid: must be 'all', a mapping {{hinge: [node, ...]}} or None")
-            return {k: np.arange(self.shells[k].num_dofs // 6) for k in panels}
-        if not isinstance(nodes, Mapping):
-            raise TypeError(f"nodes must be 'all', a mapping {{hinge: [node, ...]}} or None, got {type(nodes).__name__}")
-        out = {}
-        for k, idx in nodes.items():
-            k = self._hinge(k, panel=True)
-            idx = np.atleast_1d(np.asarray(idx))
-            if idx.dtype.kind not in "iu":
-                raise TypeError(f"nodes[{k}] must be node indices (integers), got {idx.dtype}")
-            n_nodes = self.shells[k].num_dofs // 6
-            if idx.size and (idx.min() < 0 or idx.max() >= n_nodes):
-                raise ValueError(f"nodes[{k}] must lie in [0, {n_nodes}) (hinge {k}'s panel nodes)")
-            out[k] = idx.astype(int)
-        return out
-
     def _hinge_metadata(self) -> list:
         """A run's metadata ``hinges``: a fresh dict a hinge, for the run's own keys (impacts, stress)."""
         return [dict(info) for info in self._hinges_described]
@@ -503,8 +466,8 @@ class Model:
 
     @functools.cached_property
     def _tips(self) -> tuple:
-        """Per hinge: its deforming panel's tip node's translations (_NodeTranslations), else None."""
-        return tuple(self._node_translations(k, [node]) if deforming else None
+        """Per hinge: its deforming panel's tip node's translations (_node_rows.NodeTranslations), else None."""
+        return tuple(node_translations(self, k, [node]) if deforming else None
                      for k, (node, deforming) in enumerate(zip(self.tip_nodes, self.deforming)))
 
     def _series(self, raw: dict) -> dict:
@@ -531,27 +494,3 @@ class Model:
             "kinetic_energy": raw["kinetic_energy"], "potential_energy": raw["potential_energy"],
             "q": q, "v": raw["v"],
         }
-
-
-@dataclass(frozen=True)
-class _NodeTranslations:
-    """Translations (m, (n, count, 3), C_k axes) of ``count`` nodes of a panel at each recorded
-    ``q``: ``rows`` (3 count x num_elastic) of its displacement map times its elastic coordinates
-    (q's columns from ``start``); zeros for a panel that does not deform (``rows`` None)."""
-
-    count: int
-    rows: Optional[np.ndarray]
-    start: int
-
-    def __call__(self, q: np.ndarray) -> np.ndarray:
-        if self.rows is None:
-            return np.zeros((len(q), self.count, 3))
-        eta = q[:, self.start:self.start + self.rows.shape[1]]
-        return (eta @ self.rows.T).reshape(len(q), self.count, 3)
-
-
-def _state(name: str, value, n: int) -> np.ndarray:
-    a = np.asarray(value, dtype=float)
-    if a.shape != (n,) or not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be {n} finite numbers, got shape {a.shape}")
-    return a

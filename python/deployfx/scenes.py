@@ -15,13 +15,14 @@ from typing import Optional, Sequence, Union
 
 import numpy as np
 
+from . import _node_rows
 from . import paper2016 as _paper
 from ._checks import check_field_types
 from .contact import ContactLaw, Friction
 from .groove import PinGroove
 from .integrators import GeneralizedAlpha, SimulationError
 from .materials import Isotropic, Laminate, Ply
-from .model import Model, _NodeTranslations
+from .model import Model
 from .plate import Plate, ShellModel
 from .results import Result
 from .scene import Scene
@@ -36,9 +37,9 @@ def _Ry(angle: float) -> np.ndarray:
     return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
-def _transverse(translations: _NodeTranslations, q: np.ndarray) -> np.ndarray:
+def _transverse(translations: _node_rows.NodeTranslations, q: np.ndarray) -> np.ndarray:
     """Mean transverse displacement (m, the panel frame's z) of the nodes of ``translations``
-    (Model._node_translations) from the recorded coordinates."""
+    (_node_rows.node_translations) from the recorded coordinates."""
     z = translations(q)[:, :, 2]
     return np.add.reduce(z, axis=1) / z.shape[1]  # np.mean's sum and division, without its overhead
 
@@ -169,7 +170,7 @@ class Paper2016Scene:
         # Node E: the free-end corner (x = L, y = W); also the free end's mid-width node.
         self.node_E = p.ny * (p.nx + 1) + p.nx
         self.node_mid = (p.ny // 2) * (p.nx + 1) + p.nx
-        self._translations = tuple(self.model._node_translations(0, [node]) for node in (self.node_E, self.node_mid))
+        self._translations = tuple(_node_rows.node_translations(self.model, 0, [node]) for node in (self.node_E, self.node_mid))
 
     def _series(self, model: Model, raw: dict) -> dict:
         E, mid = self._translations  # of self.model, the one model that calls this
