@@ -39,7 +39,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from ._checks import as_float, as_int
+from ._checks import as_float, as_int, finite_vector
 from ._modal_locks import TOUCH, _Locks, _locks, _set_locks, _walls
 
 __all__ = ["Modes", "modes", "relative_equilibrium", "SHIFT", "TOUCH"]
@@ -116,12 +116,8 @@ class Modes:
 def _given_state(model, q, v) -> tuple[np.ndarray, np.ndarray]:
     """A given state's (q, v) as float arrays of the model's sizes (v None: at rest), or
     ValueError naming q or v."""
-    q = np.asarray(q, dtype=float)
-    if q.shape != (model.num_positions,) or not np.all(np.isfinite(q)):
-        raise ValueError(f"q must be {model.num_positions} finite numbers, got shape {q.shape}")
-    v = np.zeros(model.num_velocities) if v is None else np.asarray(v, dtype=float)
-    if v.shape != (model.num_velocities,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"v must be {model.num_velocities} finite numbers, got shape {v.shape}")
+    q = finite_vector("q", q, model.num_positions)
+    v = np.zeros(model.num_velocities) if v is None else finite_vector("v", v, model.num_velocities)
     return q, v
 
 def _state_from(model, result, time, q, v, t):
