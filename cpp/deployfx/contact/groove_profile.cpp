@@ -1,6 +1,7 @@
 #include "deployfx/contact/groove_profile.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -16,6 +17,7 @@ using Eigen::Matrix2d;
 using Eigen::Vector2d;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+std::atomic<std::uint64_t> next_profile_id{1};
 // A vertex turning by less than this (rad) is smooth: it does not split a facet.
 constexpr double kSmoothTurn = 1e-9;
 
@@ -188,7 +190,8 @@ double GrooveElement::project(const Vector2d& c, bool* interior) const {
 
 // ---------------------------------------------------------------- the chain
 
-GrooveProfile::GrooveProfile(std::vector<GrooveElement> elements) : elements_(std::move(elements)) {
+GrooveProfile::GrooveProfile(std::vector<GrooveElement> elements)
+    : elements_(std::move(elements)), id_(next_profile_id.fetch_add(1, std::memory_order_relaxed)) {
   const int n = num_elements();
   if (n == 0) throw std::invalid_argument("profile.elements is empty: a profile needs at least one element");
   double extent = 0;

@@ -25,6 +25,7 @@
 //   +-1/|c - v| at a convex vertex v (the sign of the side), so that a Newton matrix can be
 //   analytic: d^2 gap / dc^2 = H.
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 namespace deployfx::contact {
@@ -93,6 +94,9 @@ class GrooveProfile {
   explicit GrooveProfile(std::vector<GrooveElement> elements);
 
   int num_elements() const { return static_cast<int>(elements_.size()); }
+  /// An identity of this profile's geometry: distinct for every profile constructed in the
+  /// process, shared by its copies (a memo of a query keys on it: joint::FollowerMemo).
+  std::uint64_t id() const { return id_; }
   const GrooveElement& element(int k) const { return elements_[static_cast<std::size_t>(k)]; }
   bool closed() const { return closed_; }
   int num_facets() const { return static_cast<int>(facets_.size()); }
@@ -124,6 +128,7 @@ class GrooveProfile {
   std::vector<Facet> facets_;
   std::vector<int> facet_of_;
   bool closed_ = false;
+  std::uint64_t id_ = 0;
 };
 
 }  // namespace deployfx::contact

@@ -123,6 +123,25 @@ FollowerState follow(const contact::GrooveProfile& profile, const LatchSpring& s
   return landed;
 }
 
+const FollowerState* FollowerMemo::find(const contact::GrooveProfile& profile, const LatchSpring& spring,
+                                        double pin_angle, double rho, int support, double theta) const {
+  const bool hit = valid_ && profile.id() == profile_ && support == support_ && theta == theta_ &&
+                   pin_angle == pin_angle_ && rho == rho_ && spring.toward_axis == spring_.toward_axis &&
+                   spring.stop == spring_.stop && spring.travel == spring_.travel &&
+                   spring.preload == spring_.preload && spring.stiffness == spring_.stiffness;
+  return hit ? &state_ : nullptr;
+}
+
+void FollowerMemo::store(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle,
+                         double rho, int support, double theta, const FollowerState& state) {
+  valid_ = true;
+  profile_ = profile.id();
+  spring_ = spring;
+  pin_angle_ = pin_angle, rho_ = rho, theta_ = theta;
+  support_ = support;
+  state_ = state;
+}
+
 int next_support(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle, double rho,
                  double theta, double w_from, int exclude) {
   const Bore b = bore(spring, pin_angle, theta);

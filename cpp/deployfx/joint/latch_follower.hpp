@@ -19,6 +19,7 @@
 // (ds/dtheta grows as 1/sqrt near a vertical flank: a massless pin follows any edge at once, a
 // real one lags by its drop time sqrt(2 m d / F_s), ~4 ms for a 5 g pin falling 2 mm under 1.5 N).
 #include <Eigen/Core>
+#include <cstdint>
 
 #include "deployfx/contact/groove_profile.hpp"
 
@@ -44,6 +45,28 @@ struct FollowerState {
   double w = 0;           ///< m, compression (0 on the bore stop)
   double s = 0, ds = 0, d2s = 0;  ///< m, m/rad, m/rad^2: distance from the axis and its theta-derivatives
   double drop_margin = 0;         ///< m, rho - distance(bore, support): > 0 while supported
+};
+
+/// A one-entry memo of follow(): its inputs and its answer. follow() is a pure function of them,
+/// so a hit returns the same bits as a call. One per lock history (a run's own: not for
+/// concurrent use): a step asks for the pin's position at one hinge angle from its residual, its
+/// friction limit, its events and the history's update (rigid paper scene: 65 % of the calls
+/// repeat the one before, and the follower's root search was half of the run).
+class FollowerMemo {
+ public:
+  /// The memo's answer if it holds these inputs, else null.
+  const FollowerState* find(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle,
+                            double rho, int support, double theta) const;
+  void store(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle, double rho,
+             int support, double theta, const FollowerState& state);
+
+ private:
+  bool valid_ = false;
+  std::uint64_t profile_ = 0;
+  LatchSpring spring_;
+  double pin_angle_ = 0, rho_ = 0, theta_ = 0;
+  int support_ = -1;
+  FollowerState state_;
 };
 
 /// The pin on facet `support` (psi = theta + pin_angle its direction in the parent's hinge plane);

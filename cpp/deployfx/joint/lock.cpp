@@ -15,7 +15,7 @@ template <class... F>
 Overload(F...) -> Overload<F...>;
 
 // The stop-and-latch lock's contact i: 0 the stop, 1 the latch.
-constexpr int kStop = 0;
+constexpr int kStop = 0, kLatch = 1;
 
 }  // namespace
 
@@ -65,13 +65,13 @@ int num_contacts(const LockSpec& lock) {
                     lock);
 }
 
-WallState contact_state(const LockSpec& lock, const LockState& state, int i, double theta, double rate) {
+std::vector<WallState> contact_states(const LockSpec& lock, const LockState& state, double theta, double rate) {
   if (const auto* w = std::get_if<HingeLockSpec>(&lock)) {
-    WallState stop, latch;
-    wall_states(*w, std::get<LockHistory>(state), theta, rate, &stop, &latch);
-    return i == kStop ? stop : latch;
+    std::vector<WallState> out(2);
+    wall_states(*w, std::get<LockHistory>(state), theta, rate, &out[kStop], &out[kLatch]);
+    return out;
   }
-  return facet_state(std::get<PinGrooveSpec>(lock), std::get<PinGrooveHistory>(state), i, theta, rate);
+  return facet_states(std::get<PinGrooveSpec>(lock), std::get<PinGrooveHistory>(state), theta, rate);
 }
 
 double contact_lever(const LockSpec& lock, const LockState& state, int i, double theta) {

@@ -6,6 +6,7 @@
 // onset speed, an impact time scale and its impact records, and the lock a torque on theta with
 // its derivatives, event functions, and a history updated on accepted steps only.
 #include <variant>
+#include <vector>
 
 #include "deployfx/joint/hinge_lock.hpp"
 #include "deployfx/joint/impact_record.hpp"
@@ -34,8 +35,9 @@ void update(const LockSpec& lock, LockState& state, double theta, double rate, c
 
 /// The lock's contacts (the stop and the latch; the profile's facets).
 int num_contacts(const LockSpec& lock);
-/// Contact i's mode, normal force, penetration and rate at (theta, rate).
-WallState contact_state(const LockSpec& lock, const LockState& state, int i, double theta, double rate);
+/// Every contact's mode, normal force, penetration and rate at (theta, rate), in contact order
+/// (num_contacts): the lock's kinematics (a latch pin's position on its track) once for all.
+std::vector<WallState> contact_states(const LockSpec& lock, const LockState& state, double theta, double rate);
 /// d delta / d theta of contact i (m/rad): the pin's effective mass along its normal is
 /// 1 / (lever^2 e^T M^-1 e).
 double contact_lever(const LockSpec& lock, const LockState& state, int i, double theta);

@@ -134,7 +134,14 @@ PinGrooveSpec::PinGrooveSpec(contact::GrooveProfile profile_, double pin_distanc
 }
 
 FollowerState pin_position(const PinGrooveSpec& spec, const PinGrooveHistory& h, double theta) {
-  if (spec.latch) return follow(spec.profile, *spec.latch, spec.pin_angle, spec.pin_radius, h.support, theta);
+  if (spec.latch) {
+    const LatchSpring& L = *spec.latch;
+    if (const FollowerState* st = h.follower.find(spec.profile, L, spec.pin_angle, spec.pin_radius, h.support, theta))
+      return *st;
+    const FollowerState st = follow(spec.profile, L, spec.pin_angle, spec.pin_radius, h.support, theta);
+    h.follower.store(spec.profile, L, spec.pin_angle, spec.pin_radius, h.support, theta, st);
+    return st;
+  }
   FollowerState st;
   st.found = true;
   st.s = spec.pin_distance;
@@ -200,9 +207,10 @@ PinGrooveLoad pin_groove_load(const PinGrooveSpec& spec, const PinGrooveHistory&
   return out;
 }
 
-WallState facet_state(const PinGrooveSpec& spec, const PinGrooveHistory& h, int facet, double theta, double rate) {
-  check_history(spec, h);
-  const Kinematics k = kinematics(spec, h, theta, rate);
+namespace {
+
+// facet_state at the pin's kinematics k.
+WallState facet_state_at(const PinGrooveSpec& spec, const PinGrooveHistory& h, int facet, const Kinematics& k) {
   const auto q = spec.profile.query(facet, val(k.C), spec.pin_radius);
   WallState w;
   if (facet == h.support || !q.in_range) return w;
@@ -212,6 +220,22 @@ WallState facet_state(const PinGrooveSpec& spec, const PinGrooveHistory& h, int 
   w.contact = fc.closed;
   if (fc.closed) w.F = contact::unclamped_force(spec.law, w.delta, w.delta_dot, fc.v0).F;
   return w;
+}
+
+}  // namespace
+
+WallState facet_state(const PinGrooveSpec& spec, const PinGrooveHistory& h, int facet, double theta, double rate) {
+  check_history(spec, h);
+  return facet_state_at(spec, h, facet, kinematics(spec, h, theta, rate));
+}
+
+std::vector<WallState> facet_states(const PinGrooveSpec& spec, const PinGrooveHistory& h, double theta, double rate) {
+  check_history(spec, h);
+  const Kinematics k = kinematics(spec, h, theta, rate);
+  std::vector<WallState> out;
+  out.reserve(static_cast<std::size_t>(spec.profile.num_facets()));
+  for (int f = 0; f < spec.profile.num_facets(); ++f) out.push_back(facet_state_at(spec, h, f, k));
+  return out;
 }
 
 double facet_lever(const PinGrooveSpec& spec, const PinGrooveHistory& h, int facet, double theta) {

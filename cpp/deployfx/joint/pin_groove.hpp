@@ -87,6 +87,8 @@ struct FacetContact {
 struct PinGrooveHistory {
   std::vector<FacetContact> facets;  ///< one per profile facet
   int support = -1;                  ///< latch spring: the facet the pin rests on (-1: its bore stop)
+  /// pin_position's last answer (not history: an exact memo, neither saved nor compared).
+  mutable FollowerMemo follower;
 };
 
 struct PinGrooveLoad {
@@ -117,6 +119,9 @@ PinGrooveLoad pin_groove_load(const PinGrooveSpec& spec, const PinGrooveHistory&
 /// the facet). The latch's support is no impact: reported open.
 WallState facet_state(const PinGrooveSpec& spec, const PinGrooveHistory& history, int facet, double theta,
                       double rate);
+/// facet_state of every facet, in facet order (the pin's position on its track found once).
+std::vector<WallState> facet_states(const PinGrooveSpec& spec, const PinGrooveHistory& history, double theta,
+                                    double rate);
 /// The facet's lever, d delta / d theta = -n·dc/dtheta (m/rad; > 0 when theta drives the pin into
 /// it): the pin's effective mass along the facet's normal is 1 / (lever^2 e^T M^-1 e) (today's
 /// lock: r; here r cos D on the stop wall, -r cos D on the latch wall).

@@ -60,13 +60,13 @@ void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::Vect
     joint::LockState& h = d.locks[k];
     const double theta = q(b.iq_theta), rate = v(b.iv_theta);
     const int contacts = joint::num_contacts(lock);
-    std::vector<char> was(static_cast<std::size_t>(contacts));
-    for (int c = 0; c < contacts; ++c) was[c] = joint::contact_state(lock, h, c, theta, rate).contact;
+    const std::vector<joint::WallState> was = joint::contact_states(lock, h, theta, rate);
     joint::update(lock, h, theta, rate, margin.size() ? margin.data() + i : nullptr);
+    const std::vector<joint::WallState> now = joint::contact_states(lock, h, theta, rate);
     std::optional<HingeInverseInertia> inverse_inertia;  // once per accepted step at most
     for (int c = 0; c < contacts; ++c) {
-      const joint::WallState w = joint::contact_state(lock, h, c, theta, rate);
-      if (w.contact && !was[c]) {
+      const joint::WallState& w = now[static_cast<std::size_t>(c)];
+      if (w.contact && !was[static_cast<std::size_t>(c)].contact) {
         // A contact closes: the pin's effective mass along its normal, 1 / (lever^2 e^T M^-1 e),
         // and the impact's time scale. On a deforming panel that mass is the fitting's and the
         // root's, which a damped law (the paper's D) stops within m / D: no rebound of the pin
