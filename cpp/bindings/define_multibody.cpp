@@ -399,6 +399,7 @@ void define_multibody(py::module_& m) {
                       [](const py::bytes& b) { return Checkpoint::from_bytes(std::string(b)); }));
 
   m.attr("NEWTON_TOLERANCE_DEFAULT") = deployfx::integrate::NewtonOptions{}.tolerance;
+  m.attr("CONTRACTION_DENSE_DEFAULT") = deployfx::integrate::NewtonOptions{}.contraction_dense;
   m.attr("NEWTON_TOLERANCE_RANGE") = py::make_tuple(deployfx::multibody::kMinNewtonTolerance,
                                                     deployfx::multibody::kMaxNewtonTolerance);
   m.def(
@@ -406,7 +407,7 @@ void define_multibody(py::module_& m) {
       [](const ModelPtr& model, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0, double t_end, double dt,
          const deployfx::integrate::AlphaParameters& scheme, bool reuse_jacobian, double tolerance,
          double newton_tolerance, const py::object& progress, const py::object& should_stop, PyData* data,
-         const std::vector<long>& checkpoint_steps, const Checkpoint* resume) {
+         const std::vector<long>& checkpoint_steps, const Checkpoint* resume, double contraction_dense) {
         DataArg d(*model, data);
         RunOptions opt;
         opt.t_end = t_end;
@@ -415,6 +416,7 @@ void define_multibody(py::module_& m) {
         opt.reuse_jacobian = reuse_jacobian;
         opt.tolerance = tolerance;
         opt.newton_tolerance = newton_tolerance;
+        opt.contraction_dense = contraction_dense;
         for (long k : checkpoint_steps)
           if (k < 1) throw std::invalid_argument("checkpoint_steps: output steps must be >= 1, got " + std::to_string(k));
         return run_released(*model, *d.data, q0, v0, opt, progress, should_stop, checkpoint_steps, resume);
@@ -423,7 +425,7 @@ void define_multibody(py::module_& m) {
       py::arg("scheme"), py::arg("reuse_jacobian") = true, py::arg("tolerance") = 0.0,
       py::arg("newton_tolerance") = deployfx::integrate::NewtonOptions{}.tolerance, py::arg("progress") = py::none(),
       py::arg("should_stop") = py::none(), py::arg("data") = nullptr,
-      py::arg("checkpoint_steps") = std::vector<long>{}, py::arg("resume") = nullptr,
+      py::arg("checkpoint_steps") = std::vector<long>{}, py::arg("resume") = nullptr, py::arg("contraction_dense") = 0.0,
       "Runs the model from (q0, v0) to t_end (s), output every dt (s), the GIL released; newton_tolerance: Newton's "
       "convergence test on the accelerations' relative error estimate, in [1e-14, 1e-4]. Every 0.2 s of wall time "
       "Ctrl-C is checked (main thread), progress(t, t_end) called and should_stop() asked (any thread); either "
@@ -434,5 +436,7 @@ void define_multibody(py::module_& m) {
       "(n, 3: N s, N m s about W's origin, W axes); kinetic_energy, potential_energy (n,) J; and the run's counts "
       "(newton_iterations, substeps, steps, rejected, events, factorizations) and failure ('' when complete). "
       "checkpoint_steps: output steps k (t = k dt) at whose end a Checkpoint is taken (the list 'checkpoints'); "
-      "resume: a Checkpoint to start from instead of (q0, v0), bit-identical to the run that took it.");
+      "resume: a Checkpoint to start from instead of (q0, v0), bit-identical to the run that took it. "
+      "contraction_dense: modified Newton's contraction test for the rigid and reduced models' dense iteration "
+      "matrix, in (0, 1) (0: the default, CONTRACTION_DENSE_DEFAULT; bench/newton_reuse.py).");
 }

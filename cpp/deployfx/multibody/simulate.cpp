@@ -16,6 +16,12 @@ RunResult simulate(const Model& m, Data& d, const Eigen::VectorXd& q0, const Eig
       << kMinNewtonTolerance << ", " << kMaxNewtonTolerance << "]";
     throw std::invalid_argument(e.str());
   }
+  if (!(options.contraction_dense >= 0 && options.contraction_dense < 1)) {
+    std::ostringstream e;
+    e << "contraction_dense = " << options.contraction_dense
+      << " is out of range: must be in (0, 1), or 0 for the default";
+    throw std::invalid_argument(e.str());
+  }
   const Checkpoint* resume = checkpoints ? checkpoints->resume : nullptr;
   if (resume) {
     check_checkpoint(m, *resume);
@@ -30,6 +36,7 @@ RunResult simulate(const Model& m, Data& d, const Eigen::VectorXd& q0, const Eig
   integrate::NewtonOptions newton;
   newton.reuse_jacobian = options.reuse_jacobian;
   newton.tolerance = options.newton_tolerance;
+  if (options.contraction_dense > 0) newton.contraction_dense = options.contraction_dense;
   integrate::GeneralizedAlpha integrator(system, options.scheme, newton);
   integrate::StepControl control;
   control.tolerance = options.tolerance;

@@ -23,6 +23,10 @@ struct RunOptions {
   /// Newton's convergence test (integrate::NewtonOptions::tolerance): the estimated error of the
   /// accelerations relative to max(|vdot_n|, 1), in [kMinNewtonTolerance, kMaxNewtonTolerance].
   double newton_tolerance = integrate::NewtonOptions{}.tolerance;
+  /// Modified Newton's contraction test for a dense iteration matrix (the rigid and reduced
+  /// models: integrate::NewtonOptions::contraction_dense), in (0, 1); 0: NewtonOptions' default.
+  /// For bench/newton_reuse.py.
+  double contraction_dense = 0;
 };
 
 /// The range of RunOptions::newton_tolerance: below 1e-14 the test asks for less than the
