@@ -77,3 +77,15 @@ def test_a_checkpoint_keeps_the_tolerance(runs, tmp_path):
     with pytest.raises(ValueError, match="newton_tolerance = 1e-10, but the checkpoint's run had 1e-07"):
         sc.simulate(T_END, DT, resume=loaded, progress=False)
     assert Case("reduced-linear", newton_tolerance=1e-8).name.endswith(" newton=1e-08")
+
+
+@pytest.mark.parametrize("bad", [-0.1, 1.0, 2.0, float("nan"), float("inf")])
+def test_the_engine_refuses_a_contraction_test_out_of_range(runs, bad):
+    # The engine's contraction_dense (bench/newton_reuse.py's knob): in (0, 1), or 0 for the default.
+    sc, _ = runs
+    core = sc.model.core
+    q0, v0 = core.initial_positions(), np.zeros(core.num_velocities)
+    scheme = _core.AlphaParameters.generalized_alpha(0.8)
+    with pytest.raises(ValueError, match=r"contraction_dense = .* out of range: must be in \(0, 1\)"):
+        _core.simulate(core, q0, v0, t_end=0.05, dt=DT, scheme=scheme, contraction_dense=bad)
+    assert 0 < _core.CONTRACTION_DENSE_DEFAULT < 1
