@@ -143,8 +143,9 @@ class Slaved:
     "sc" (eta_m = argmin U, static condensation); kinetic=False drops the in-plane kinetic energy
     (bending mass I only, as a polynomial-in-q model would)."""
 
-    def __init__(self, panel, kind, C=None, kinetic=True):
+    def __init__(self, panel, kind, C=None, kinetic=True, elastic_curvature=True):
         self.p, self.kind, self.C, self.kinetic = panel, kind, C, kinetic
+        self.elastic_curvature = elastic_curvature  # "vk": keep d2h/dq2 . eta_m in Newton's matrix
         self._em = np.zeros(len(panel.im))
 
     def g(self, q):
@@ -167,7 +168,8 @@ class Slaved:
             T[np.ix_(p.im, p.im)] = np.diag(p.K[p.im])
             # the Hessian's term d2h/dq2 . eta_m (h = f_m(q, 0) quadratic: d2h_k = -K_k C_k): it
             # cancels the unrelaxed membrane stress in T0_bb and cannot be dropped
-            T[np.ix_(p.ib, p.ib)] -= np.einsum("k,kij->ij", p.K[p.im] * em, self.C)
+            if self.elastic_curvature:
+                T[np.ix_(p.ib, p.ib)] -= np.einsum("k,kij->ij", p.K[p.im] * em, self.C)
             G = np.einsum("kij,j->ki", self.C, q)
         else:
             em, _ = p.condense(q, self._em)
