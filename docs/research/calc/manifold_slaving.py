@@ -142,7 +142,7 @@ if "slaving" in SECTIONS:
     for wname, w in (("deployment (t < 2.46 s)", t < 2.46), ("all 30 s", t <= 30.0)):
         print(f"{wname}: max|K_mm eta_m| = {np.abs(eta[w][:, P.im] * P.K[P.im]).max():.3g}, max|f_m(q_b, 0)| = "
               f"{np.abs(fm_0[w]).max():.3g}, max|f_m| (the run's membrane force) = {np.abs(fm_rec[w]).max():.3g}, "
-              f"max|g_m| (inertial load) = {np.abs(g[w]).max():.3g} (N, kg^0.5 m/s^2 units of eta)")
+              f"max|g_m| (inertial load) = {np.abs(g[w]).max():.3g} (generalized forces on eta, N kg^-1/2)")
     print()
     pred, its, C_G = predictors(P, C_J, eta[:, P.ib], g)
     print(f"|C_J - C_G| / |C_G| = {np.linalg.norm(C_J - C_G) / np.linalg.norm(C_G):.3f} (Frobenius); "
