@@ -184,6 +184,7 @@ ShellElement::ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::
     }
     for (int i = 0; i < 4; ++i)
       for (int k = 0; k < 3; ++k) p.Bs_wr.col(4 * k + i) = p.Bs.col(6 * i + W + k);  // W, TX, TY
+    p.Bs_wrT = p.Bs_wr.transpose();
   }
 }
 
@@ -391,10 +392,14 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
         -p.dNx.transpose(), p.dNy.transpose();
     const Eigen::Matrix<double, 3, 12> wABm = (w * A_) * Bm;
     const Eigen::Matrix<double, 3, 8> wBBb = (w * B_) * Bb, wDBb = (w * D_) * Bb;
-    Kt.topLeftCorner<12, 12>().noalias() += Bm.transpose() * wABm;
-    Kt.block<12, 8>(0, 12).noalias() += Bm.transpose() * wBBb;
-    Kt.block<8, 8>(12, 12).noalias() += Bb.transpose() * wDBb;
-    Kt.block<12, 12>(8, 8).noalias() += p.Bs_wr.transpose() * ((w * As_) * p.Bs_wr);
+    // Eigen sends a fixed 12 x 3 x 12 product to its general GEMM (packing, blocking): 30 % of the
+    // tangent. lazyProduct with a column-major left factor is the same sums in the same order
+    // (over the depth, each a product then fused multiply-adds, added to Kt), in registers.
+    const Eigen::Matrix<double, 12, 3> BmT = Bm.transpose();
+    Kt.topLeftCorner<12, 12>().noalias() += BmT.lazyProduct(wABm);
+    Kt.block<12, 8>(0, 12).noalias() += BmT.lazyProduct(wBBb);
+    Kt.block<8, 8>(12, 12).noalias() += Bb.transpose().lazyProduct(wDBb);
+    Kt.block<12, 12>(8, 8).noalias() += p.Bs_wrT.lazyProduct((w * As_) * p.Bs_wr);
     Eigen::Matrix<double, 12, 1> bd;  // Bd on (u, v, theta_z)
     bd << 0.5 * p.dNy, -0.5 * p.dNx, p.N;
     const Eigen::Matrix<double, 12, 12> Kd = (w * drill_modulus_) * bd * bd.transpose();

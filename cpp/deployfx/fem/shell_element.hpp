@@ -123,6 +123,7 @@ class ShellElement {
     // on the dofs it touches, (w, theta_x, theta_y) of the four nodes, column 4 k + node.
     Eigen::Vector4d N, dNx, dNy;
     Eigen::Matrix<double, 2, 12> Bs_wr;
+    Eigen::Matrix<double, 12, 2> Bs_wrT;  // its transpose, column-major (the tangent's products)
   };
   /// d_E = T d_W, T = blockdiag(R_WE^T); returns T^T K T. (The identity, copying, for an element
   /// whose axes are the world's: a mesh in the x-y plane along x.)
