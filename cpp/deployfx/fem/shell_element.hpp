@@ -124,7 +124,13 @@ class ShellElement {
     Eigen::Vector4d N, dNx, dNy;
     Eigen::Matrix<double, 2, 12> Bs_wr;
     Eigen::Matrix<double, 12, 2> Bs_wrT;  // its transpose, column-major (the tangent's products)
+    // The tangent's factors that no displacement enters: w A, w B Bb, w As Bs_wr.
+    Eigen::Matrix3d wA;
+    Eigen::Matrix<double, 3, 8> wBBb;
+    Eigen::Matrix<double, 2, 12> wAsBs;
   };
+  /// The tangent's blocks that no displacement enters, into K_rot_ and Kd_ (constructor).
+  void constant_tangent();
   /// d_E = T d_W, T = blockdiag(R_WE^T); returns T^T K T. (The identity, copying, for an element
   /// whose axes are the world's: a mesh in the x-y plane along x.)
   ElemMat to_world(const ElemMat& K_E) const;
@@ -143,6 +149,11 @@ class ShellElement {
   Eigen::Matrix<double, 4, 3> X_W_;  // node positions, world, m
   std::array<RowOp, 4> tying_;      // MITC4 covariant shear at the tying points B, D, A, C
   std::array<GaussPoint, 4> gp_;
+  // Their sums over the Gauss points (type-major): bending and shear on (theta_x, theta_y), and
+  // the drilling penalty's blocks with theta_z (the (u, v) x theta_z, theta_z x (u, v) and
+  // theta_z x theta_z corners of a 12 x 12 on (u, v, theta_z); the rest unused).
+  Eigen::Matrix<double, 8, 8> K_rot_;
+  Eigen::Matrix<double, 12, 12> Kd_;
 };
 
 }  // namespace deployfx::fem
