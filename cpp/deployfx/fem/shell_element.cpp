@@ -7,6 +7,15 @@
 
 #include <Eigen/Geometry>
 
+// The element kernel is one large function, and the compiler left its small fixed-size Eigen
+// products and assignments out of line (calls, a 3-vector through memory): flattened, they are
+// inlined (15 x 10, 150 element forces 55 -> 30 us, tangents 170 -> 147 us).
+#if defined(__GNUC__)
+#define DEPLOYFX_FLATTEN __attribute__((flatten))
+#else
+#define DEPLOYFX_FLATTEN
+#endif
+
 namespace deployfx::fem {
 namespace {
 
@@ -353,7 +362,7 @@ ShellElement::GreenOperators ShellElement::green_operators(int gauss_point) cons
   return out;
 }
 
-void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W, double* energy) const {
+DEPLOYFX_FLATTEN void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W, double* energy) const {
   // Each strain operator touches few of the 24 dofs, through the nodes' shape functions: Bm and
   // G the (u, v, w), Bb the (theta_x, theta_y), Bs the (w, theta_x, theta_y), Bd the (u, v,
   // theta_z). The force and tangent are formed from those, with the tangent in the dof-type-major
