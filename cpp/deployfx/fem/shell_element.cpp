@@ -362,7 +362,26 @@ ShellElement::GreenOperators ShellElement::green_operators(int gauss_point) cons
   return out;
 }
 
-DEPLOYFX_FLATTEN void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W, double* energy) const {
+void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W, double* energy) const {
+  ElemMat Kt;
+  evaluate(d_W, f_W, K_W ? &Kt : nullptr, energy);
+  if (!K_W) return;
+  ElemMat K;  // node-major
+  for (int b = 0; b < 4; ++b)
+    for (int r = 0; r < kNodeDofs; ++r)
+      for (int a = 0; a < 4; ++a)
+        for (int s = 0; s < kNodeDofs; ++s)
+          K(kNodeDofs * a + s, kNodeDofs * b + r) = Kt(4 * s + a, 4 * r + b);
+  *K_W = to_world(K);
+}
+
+bool ShellElement::tangent_type_major(const ElemVec& d_W, ElemMat* K_t) const {
+  if (!world_axes_) return false;
+  evaluate(d_W, nullptr, K_t, nullptr);
+  return true;
+}
+
+DEPLOYFX_FLATTEN void ShellElement::evaluate(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_t, double* energy) const {
   // Each strain operator touches few of the 24 dofs, through the nodes' shape functions: Bm and
   // G the (u, v, w), Bb the (theta_x, theta_y), Bs the (w, theta_x, theta_y), Bd the (u, v,
   // theta_z). The force and tangent are formed from those, with the tangent in the dof-type-major
@@ -375,6 +394,7 @@ DEPLOYFX_FLATTEN void ShellElement::internal_force(const ElemVec& d_W, ElemVec* 
   // Column a: node a's dofs.
   const Eigen::Map<const Eigen::Matrix<double, kNodeDofs, 4>> X(d.data());
   Eigen::Matrix<double, kNodeDofs, 4> F = Eigen::Matrix<double, kNodeDofs, 4>::Zero();
+  const bool K_W = K_t != nullptr;
   ElemMat Kt;  // type-major
   if (K_W) Kt.setZero();
   if (energy) *energy = 0;
@@ -456,13 +476,7 @@ DEPLOYFX_FLATTEN void ShellElement::internal_force(const ElemVec& d_W, ElemVec* 
   Kt.block<4, 8>(20, 0) = Kd_.bottomLeftCorner<4, 8>();
   Kt.bottomRightCorner<4, 4>() = Kd_.bottomRightCorner<4, 4>();
   Kt.block<8, 12>(12, 0) = Kt.block<12, 8>(0, 12).transpose();
-  ElemMat K;  // node-major
-  for (int b = 0; b < 4; ++b)
-    for (int r = 0; r < kNodeDofs; ++r)
-      for (int a = 0; a < 4; ++a)
-        for (int s = 0; s < kNodeDofs; ++s)
-          K(kNodeDofs * a + s, kNodeDofs * b + r) = Kt(4 * s + a, 4 * r + b);
-  *K_W = to_world(K);
+  *K_t = Kt;
 }
 
 }  // namespace deployfx::fem

@@ -74,6 +74,11 @@ class ShellElement {
   /// Internal force f = dU/dd and tangent K_T = K_L + K_L*(d) + K_s(N(d)) (world dofs), and the
   /// strain energy U from the same strains (J; strain_energy() is the independent reference).
   void internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W, double* energy = nullptr) const;
+  /// For an element whose axes are the world's (a mesh in the x-y plane along x), the tangent of
+  /// internal_force() in the dof-type-major order it is formed in, row and column 4 t + a for dof
+  /// type t (u, v, w, theta_x, theta_y, theta_z) of node a: assembly without reordering it. False
+  /// (K_t untouched) for any other element.
+  bool tangent_type_major(const ElemVec& d_W, ElemMat* K_t) const;
 
   /// The ingredients of the Green membrane strain at Gauss point g, on world dofs, for its exact
   /// projection on a Ritz basis (fem/modal_internal_force): the gradients psi = G d (Eq. 20), so
@@ -129,6 +134,8 @@ class ShellElement {
     Eigen::Matrix<double, 3, 8> wBBb;
     Eigen::Matrix<double, 2, 12> wAsBs;
   };
+  /// internal_force()'s force (world axes) and type-major tangent (E axes), each if asked for.
+  void evaluate(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_t, double* energy) const;
   /// The tangent's blocks that no displacement enters, into K_rot_ and Kd_ (constructor).
   void constant_tangent();
   /// d_E = T d_W, T = blockdiag(R_WE^T); returns T^T K T. (The identity, copying, for an element
