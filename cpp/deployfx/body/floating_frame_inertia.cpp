@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -299,14 +300,25 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Prod
   // E_ij(d) = E0_ij + C_(ij) d + C_(ji) d + d^T M_ij d, so dE_ij/dd = C_(ij) + C_(ji) + z^T (M_ij + M_ji)
   // with z = d (M_ij^T z = M_ji z); (J x) = tr(E) x - E x.
   // Row l: x_l tr(g) - sum_j x_j g_lj, g_lj = (M_jl z + M_lj z)^T [+ C_(lj) + C_(jl)], summed in
-  // place (no temporaries: these run four times a Newton matrix).
-  Matrix3X D(3, num_dofs());
-  for (int l = 0; l < 3; ++l) {
-    D.row(l) = (2.0 * x(l)) * (P[0] + P[4] + P[8]).transpose();
-    if (with_C) D.row(l) += (2.0 * x(l)) * (C_.row(0) + C_.row(4) + C_.row(8));
-    for (int j = 0; j < 3; ++j) {
-      D.row(l) -= x(j) * (P[3 * j + l] + P[3 * l + j]).transpose();
-      if (with_C) D.row(l) -= x(j) * (C_.row(3 * l + j) + C_.row(3 * j + l));
+  // place (no temporaries: these run four times a Newton matrix), column by column (D's columns
+  // are contiguous, its rows strided): for each entry the terms in the order above, with the
+  // rounding of a row-by-row sum (the first term rounded, each further one a fused multiply-add).
+  const Eigen::Index n = num_dofs();
+  Matrix3X D(3, n);
+  std::array<const double*, 9> Pk;
+  for (int k = 0; k < 9; ++k) Pk[k] = P[k].data();
+  const Eigen::Vector3d x2 = 2.0 * x;
+  for (Eigen::Index c = 0; c < n; ++c) {
+    const double trP = Pk[0][c] + Pk[4][c] + Pk[8][c];
+    const double trC = with_C ? C_(0, c) + C_(4, c) + C_(8, c) : 0.0;
+    for (int l = 0; l < 3; ++l) {
+      double v = x2(l) * trP;
+      if (with_C) v = std::fma(x2(l), trC, v);
+      for (int j = 0; j < 3; ++j) {
+        v = std::fma(-x(j), Pk[3 * j + l][c] + Pk[3 * l + j][c], v);
+        if (with_C) v = std::fma(-x(j), C_(3 * l + j, c) + C_(3 * j + l, c), v);
+      }
+      D(l, c) = v;
     }
   }
   return D;
