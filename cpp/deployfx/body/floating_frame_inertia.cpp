@@ -235,11 +235,20 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Pro
   check(Pd[0], "Pd");
   // (P + u)~ N row-wise: x: P_y N_z - P_z N_y (and cyclic), the u-part from M_ij.
   Matrix3X H(3, num_dofs());
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
-  }
+  fill_rotation_coupling(Pd, H);
   return H;
+}
+
+void FloatingFrameInertia::fill_rotation_coupling(const Products& Pd, Matrix3X& H) const {
+  // Row i = C_(jk) - C_(kj) + (M_kj d - M_jk d)^T, (i, j, k) cyclic; formed column by column (H's
+  // columns are contiguous, its rows strided).
+  std::array<const double*, 9> P;
+  for (int k = 0; k < 9; ++k) P[k] = Pd[k].data();
+  for (Eigen::Index c = 0; c < H.cols(); ++c)
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      H(i, c) = C_(3 * j + k, c) - C_(3 * k + j, c) + (P[3 * k + j][c] - P[3 * j + k][c]);
+    }
 }
 
 double FloatingFrameInertia::kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
@@ -373,9 +382,9 @@ FloatingFrameInertia::StateIntegrals FloatingFrameInertia::state_integrals(
   g.H.resize(3, num_dofs());
   g.Gd = Eigen::VectorXd::Zero(num_dofs());
   g.Gdd = Eigen::VectorXd::Zero(num_dofs());
+  fill_rotation_coupling(Pd, g.H);
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
-    g.H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
     g.Gdd += w(j) * Pdd[3 * i + k] - w(k) * Pdd[3 * i + j];  // G_y(w) dd
     for (int l = 0; l < 3; ++l) g.Gd += (w(i) * w(l) - (i == l ? w.squaredNorm() : 0.0)) * Pd[3 * i + l];
   }

@@ -145,6 +145,7 @@ class FloatingFrameInertia {
   // The integrals above from the products Pd = products(d) (Py = products(y)).
   Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d, const Products& Pd) const;
   Matrix3X rotation_coupling(const Products& Pd) const;
+  void fill_rotation_coupling(const Products& Pd, Matrix3X& H) const;  // H(d) into H (3 x ndof)
   static Matrix3X rotation_coupling_jacobian(const Products& Py);
   // Rows g_ij = dE_ij/dd = [C_(ij) + C_(ji)] + (M_ij z + M_ji z)^T (z = d; without C: the rate
   // part, z = dd), from the products P = M_k z, contracted with x as tr(g) x - g x.
