@@ -1,6 +1,8 @@
 #include "deployfx/body/floating_frame_inertia.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -11,6 +13,34 @@ namespace deployfx::body {
 
 using fem::kElementDofs;
 using fem::kNodeDofs;
+
+namespace {
+
+// y_v = A z_v (A column-major: scattered by row) and, with `transposed`, yt_v = A^T z_v (gathered
+// by column) for V vectors in one pass over A: each sum in the order of Eigen's sparse product
+// (column by column, from zero).
+template <int V, bool transposed>
+void sparse_pass(const Eigen::SparseMatrix<double>& A, const std::array<const double*, V>& z,
+                 const std::array<double*, V>& y, const std::array<double*, V>& yt) {
+  const Eigen::Index n = A.cols();
+  const int* outer = A.outerIndexPtr();
+  const int* row = A.innerIndexPtr();
+  const double* val = A.valuePtr();
+  for (int v = 0; v < V; ++v) std::fill(y[v], y[v] + A.rows(), 0.0);
+  for (Eigen::Index c = 0; c < n; ++c) {
+    std::array<double, V> zc, sum;
+    for (int v = 0; v < V; ++v) zc[v] = z[v][c], sum[v] = 0;
+    for (int k = outer[c]; k < outer[c + 1]; ++k)
+      for (int v = 0; v < V; ++v) {
+        y[v][row[k]] += val[k] * zc[v];
+        if (transposed) sum[v] += val[k] * z[v][row[k]];
+      }
+    if (transposed)
+      for (int v = 0; v < V; ++v) yt[v][c] = sum[v];
+  }
+}
+
+}  // namespace
 
 FloatingFrameInertia::FloatingFrameInertia(const fem::ShellModel& model) : M_(model.mass()) {
   // The mesh's mass matrix is stored on the node-block pattern of its stiffness, 72 % zeros (the
@@ -101,17 +131,20 @@ FloatingFrameInertia::SparseMatrix FloatingFrameInertia::Mij(int i, int j) const
   return Mij_[3 * i + j];
 }
 
-FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::VectorXd& z, ProductsMemo* memo) const {
-  check(z, "z");
+const FloatingFrameInertia::Products* FloatingFrameInertia::recalled(const Eigen::VectorXd& z,
+                                                                     const ProductsMemo* memo) {
   if (memo)
     for (int s = 0; s < ProductsMemo::kSlots; ++s)
-      if (memo->z[s].size() == z.size() && memo->z[s] == z) return memo->products[s];
+      if (memo->z[s].size() == z.size() && memo->z[s] == z) return &memo->products[s];
+  return nullptr;
+}
+
+FloatingFrameInertia::Products FloatingFrameInertia::recorded(const Eigen::VectorXd& z, ProductsMemo* memo) {
   Products P;
   P.n_ = z.size();
   std::shared_ptr<Eigen::VectorXd>* evicted = memo ? &memo->products[memo->next].p_ : nullptr;
   if (evicted && *evicted && evicted->use_count() == 1) P.p_ = std::move(*evicted);  // held by the memo only
   else P.p_ = std::make_shared<Eigen::VectorXd>();
-  compute_products(z, *P.p_);
   if (memo) {
     memo->z[memo->next] = z;
     memo->products[memo->next] = P;
@@ -120,37 +153,52 @@ FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::Vecto
   return P;
 }
 
-void FloatingFrameInertia::compute_products(const Eigen::VectorXd& z, Eigen::VectorXd& out) const {
-  const Eigen::Index n = z.size();
-  out.resize(9 * n);
+FloatingFrameInertia::Products FloatingFrameInertia::products(const Eigen::VectorXd& z, ProductsMemo* memo) const {
+  check(z, "z");
+  if (const Products* P = recalled(z, memo)) return *P;
+  Products P = recorded(z, memo);
+  compute_products<1>({&z}, {P.p_.get()});
+  return P;
+}
+
+void FloatingFrameInertia::products(const Eigen::VectorXd& z1, const Eigen::VectorXd& z2, ProductsMemo* memo,
+                                    Products& P1, Products& P2) const {
+  check(z1, "z");
+  check(z2, "z");
+  if (recalled(z1, memo) || recalled(z2, memo) || z1 == z2) {
+    P1 = products(z1, memo);
+    P2 = products(z2, memo);
+    return;
+  }
+  P1 = recorded(z1, memo);
+  P2 = recorded(z2, memo);
+  compute_products<2>({&z1, &z2}, {P1.p_.get(), P2.p_.get()});
+}
+
+template <int V>
+void FloatingFrameInertia::compute_products(const std::array<const Eigen::VectorXd*, V>& z,
+                                            const std::array<Eigen::VectorXd*, V>& out) const {
+  const Eigen::Index n = z[0]->size();
+  for (int v = 0; v < V; ++v) out[v]->resize(9 * n);
   if (dense_) {
-    out.noalias() = Mij_stacked_ * z;
+    for (int v = 0; v < V; ++v) out[v]->noalias() = Mij_stacked_ * *z[v];
     return;
   }
   // A sparse product streams its matrix from memory: with M_ji = M_ij^T, one pass over M_ij
   // (column-major) gives both y = M_ij z (scattered by row) and y' = M_ji z (gathered by column),
-  // six passes instead of nine.
-  for (int i = 0; i < 3; ++i) {
-    out.segment(4 * i * n, n).noalias() = Mij_[4 * i] * z;
-    for (int j = i + 1; j < 3; ++j) {
-      const SparseMatrix& A = Mij_[3 * i + j];
-      auto y = out.segment((3 * i + j) * n, n);
-      auto yt = out.segment((3 * j + i) * n, n);
-      y.setZero();
-      const int* outer = A.outerIndexPtr();
-      const int* row = A.innerIndexPtr();
-      const double* val = A.valuePtr();
-      for (Eigen::Index c = 0; c < n; ++c) {
-        const double zc = z(c);
-        double sum = 0;
-        for (int k = outer[c]; k < outer[c + 1]; ++k) {
-          y(row[k]) += val[k] * zc;
-          sum += val[k] * z(row[k]);
-        }
-        yt(c) = sum;
+  // six passes instead of nine; and the V vectors share each pass (their sums' chains interleave).
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      std::array<const double*, V> zv;
+      std::array<double*, V> y, yt;
+      for (int v = 0; v < V; ++v) {
+        zv[v] = z[v]->data();
+        y[v] = out[v]->data() + (3 * i + j) * n;
+        yt[v] = out[v]->data() + (3 * j + i) * n;
       }
+      if (i == j) sparse_pass<V, false>(Mij_[3 * i + j], zv, y, yt);
+      else sparse_pass<V, true>(Mij_[3 * i + j], zv, y, yt);
     }
-  }
 }
 
 void FloatingFrameInertia::check(const Eigen::VectorXd& d, const char* name) const {
@@ -187,11 +235,20 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Pro
   check(Pd[0], "Pd");
   // (P + u)~ N row-wise: x: P_y N_z - P_z N_y (and cyclic), the u-part from M_ij.
   Matrix3X H(3, num_dofs());
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
-  }
+  fill_rotation_coupling(Pd, H);
   return H;
+}
+
+void FloatingFrameInertia::fill_rotation_coupling(const Products& Pd, Matrix3X& H) const {
+  // Row i = C_(jk) - C_(kj) + (M_kj d - M_jk d)^T, (i, j, k) cyclic; formed column by column (H's
+  // columns are contiguous, its rows strided).
+  std::array<const double*, 9> P;
+  for (int k = 0; k < 9; ++k) P[k] = Pd[k].data();
+  for (Eigen::Index c = 0; c < H.cols(); ++c)
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      H(i, c) = C_(3 * j + k, c) - C_(3 * k + j, c) + (P[3 * k + j][c] - P[3 * j + k][c]);
+    }
 }
 
 double FloatingFrameInertia::kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
@@ -252,14 +309,25 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Prod
   // E_ij(d) = E0_ij + C_(ij) d + C_(ji) d + d^T M_ij d, so dE_ij/dd = C_(ij) + C_(ji) + z^T (M_ij + M_ji)
   // with z = d (M_ij^T z = M_ji z); (J x) = tr(E) x - E x.
   // Row l: x_l tr(g) - sum_j x_j g_lj, g_lj = (M_jl z + M_lj z)^T [+ C_(lj) + C_(jl)], summed in
-  // place (no temporaries: these run four times a Newton matrix).
-  Matrix3X D(3, num_dofs());
-  for (int l = 0; l < 3; ++l) {
-    D.row(l) = (2.0 * x(l)) * (P[0] + P[4] + P[8]).transpose();
-    if (with_C) D.row(l) += (2.0 * x(l)) * (C_.row(0) + C_.row(4) + C_.row(8));
-    for (int j = 0; j < 3; ++j) {
-      D.row(l) -= x(j) * (P[3 * j + l] + P[3 * l + j]).transpose();
-      if (with_C) D.row(l) -= x(j) * (C_.row(3 * l + j) + C_.row(3 * j + l));
+  // place (no temporaries: these run four times a Newton matrix), column by column (D's columns
+  // are contiguous, its rows strided): for each entry the terms in the order above, with the
+  // rounding of a row-by-row sum (the first term rounded, each further one a fused multiply-add).
+  const Eigen::Index n = num_dofs();
+  Matrix3X D(3, n);
+  std::array<const double*, 9> Pk;
+  for (int k = 0; k < 9; ++k) Pk[k] = P[k].data();
+  const Eigen::Vector3d x2 = 2.0 * x;
+  for (Eigen::Index c = 0; c < n; ++c) {
+    const double trP = Pk[0][c] + Pk[4][c] + Pk[8][c];
+    const double trC = with_C ? C_(0, c) + C_(4, c) + C_(8, c) : 0.0;
+    for (int l = 0; l < 3; ++l) {
+      double v = x2(l) * trP;
+      if (with_C) v = std::fma(x2(l), trC, v);
+      for (int j = 0; j < 3; ++j) {
+        v = std::fma(-x(j), Pk[3 * j + l][c] + Pk[3 * l + j][c], v);
+        if (with_C) v = std::fma(-x(j), C_(3 * l + j, c) + C_(3 * j + l, c), v);
+      }
+      D(l, c) = v;
     }
   }
   return D;
@@ -314,9 +382,9 @@ FloatingFrameInertia::StateIntegrals FloatingFrameInertia::state_integrals(
   g.H.resize(3, num_dofs());
   g.Gd = Eigen::VectorXd::Zero(num_dofs());
   g.Gdd = Eigen::VectorXd::Zero(num_dofs());
+  fill_rotation_coupling(Pd, g.H);
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
-    g.H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
     g.Gdd += w(j) * Pdd[3 * i + k] - w(k) * Pdd[3 * i + j];  // G_y(w) dd
     for (int l = 0; l < 3; ++l) g.Gd += (w(i) * w(l) - (i == l ? w.squaredNorm() : 0.0)) * Pd[3 * i + l];
   }
@@ -347,7 +415,8 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
   check(ddd, "ddd");
   // Every d-dependent integral is built from the 18 products M_ij d and M_ij dd, formed once
   // (M_ij^T = M_ji).
-  const Products Pd = products(d, memo), Pdd = products(dd, memo);
+  Products Pd, Pdd;
+  products(d, dd, memo, Pd, Pdd);
   return forces(state_integrals(w, d, dd, Pd, Pdd), a, al, w, dd, ddd);
 }
 

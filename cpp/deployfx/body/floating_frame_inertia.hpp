@@ -73,6 +73,10 @@ class FloatingFrameInertia {
   };
   /// M_ij z; from `memo` if it holds z (and recorded there otherwise); memo may be null.
   Products products(const Eigen::VectorXd& z, ProductsMemo* memo = nullptr) const;
+  /// products(z1, memo), then products(z2, memo), into P1 and P2: two that the memo holds neither
+  /// of are formed in one pass over the M_ij (the same sums; a residual's d and dd').
+  void products(const Eigen::VectorXd& z1, const Eigen::VectorXd& z2, ProductsMemo* memo, Products& P1,
+                Products& P2) const;
 
   /// s(d) = S0 + S1 d, the first moment of the deformed body, kg m.
   Eigen::Vector3d first_moment(const Eigen::VectorXd& d) const;
@@ -141,6 +145,7 @@ class FloatingFrameInertia {
   // The integrals above from the products Pd = products(d) (Py = products(y)).
   Eigen::Matrix3d inertia_tensor(const Eigen::VectorXd& d, const Products& Pd) const;
   Matrix3X rotation_coupling(const Products& Pd) const;
+  void fill_rotation_coupling(const Products& Pd, Matrix3X& H) const;  // H(d) into H (3 x ndof)
   static Matrix3X rotation_coupling_jacobian(const Products& Py);
   // Rows g_ij = dE_ij/dd = [C_(ij) + C_(ji)] + (M_ij z + M_ji z)^T (z = d; without C: the rate
   // part, z = dd), from the products P = M_k z, contracted with x as tr(g) x - g x.
@@ -174,8 +179,14 @@ class FloatingFrameInertia {
   SparseMatrix M_;
   // c with centrifugal_load(w) = C^T c.
   static Eigen::Matrix<double, 9, 1> centrifugal_weights(const Eigen::Vector3d& w);
-  // The nine M_k z into `out` (resized to 9 ndof), stacked.
-  void compute_products(const Eigen::VectorXd& z, Eigen::VectorXd& out) const;
+  // The nine M_k z[v] into out[v] (resized to 9 ndof), stacked, for V vectors at once.
+  template <int V>
+  void compute_products(const std::array<const Eigen::VectorXd*, V>& z,
+                        const std::array<Eigen::VectorXd*, V>& out) const;
+  // products()'s memo: the products of z if it holds them (null otherwise); a new set's storage
+  // (the next slot's once nothing else holds it) recorded there for z.
+  static const Products* recalled(const Eigen::VectorXd& z, const ProductsMemo* memo);
+  static Products recorded(const Eigen::VectorXd& z, ProductsMemo* memo);
 };
 
 }  // namespace deployfx::body

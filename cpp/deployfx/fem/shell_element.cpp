@@ -7,6 +7,15 @@
 
 #include <Eigen/Geometry>
 
+// The element kernel is one large function, and the compiler left its small fixed-size Eigen
+// products and assignments out of line (calls, a 3-vector through memory): flattened, they are
+// inlined (15 x 10, 150 element forces 55 -> 30 us, tangents 170 -> 147 us).
+#if defined(__GNUC__)
+#define DEPLOYFX_FLATTEN __attribute__((flatten))
+#else
+#define DEPLOYFX_FLATTEN
+#endif
+
 namespace deployfx::fem {
 namespace {
 
@@ -184,7 +193,39 @@ ShellElement::ShellElement(const Eigen::Matrix<double, 4, 3>& X_W, const Eigen::
     }
     for (int i = 0; i < 4; ++i)
       for (int k = 0; k < 3; ++k) p.Bs_wr.col(4 * k + i) = p.Bs.col(6 * i + W + k);  // W, TX, TY
+    p.Bs_wrT = p.Bs_wr.transpose();
   }
+  constant_tangent();
+}
+
+void ShellElement::constant_tangent() {
+  // internal_force()'s tangent terms that no displacement enters, summed over the Gauss points as
+  // it summed them (type-major, the same expressions in the same order: bit for bit its sums).
+  ElemMat Kt = ElemMat::Zero();
+  for (GaussPoint& p : gp_) {
+    const double w = p.weight;
+    Eigen::Matrix<double, 3, 8> Bb;  // on (theta_x, theta_y)
+    Bb << Eigen::RowVector4d::Zero(), p.dNx.transpose(),  //
+        -p.dNy.transpose(), Eigen::RowVector4d::Zero(),   //
+        -p.dNx.transpose(), p.dNy.transpose();
+    p.wA = w * A_;
+    p.wBBb = (w * B_) * Bb;
+    const Eigen::Matrix<double, 3, 8> wDBb = (w * D_) * Bb;
+    p.wAsBs = (w * As_) * p.Bs_wr;
+    Kt.block<8, 8>(12, 12).noalias() += Bb.transpose().lazyProduct(wDBb);
+    Kt.block<12, 12>(8, 8).noalias() += p.Bs_wrT.lazyProduct(p.wAsBs);
+    Eigen::Matrix<double, 12, 1> bd;  // Bd on (u, v, theta_z)
+    bd << 0.5 * p.dNy, -0.5 * p.dNx, p.N;
+    const Eigen::Matrix<double, 12, 12> Kd = (w * drill_modulus_) * bd * bd.transpose();
+    Kt.block<8, 4>(0, 20) += Kd.topRightCorner<8, 4>();
+    Kt.block<4, 8>(20, 0) += Kd.bottomLeftCorner<4, 8>();
+    Kt.bottomRightCorner<4, 4>() += Kd.bottomRightCorner<4, 4>();
+  }
+  K_rot_ = Kt.block<8, 8>(12, 12);
+  Kd_.setZero();
+  Kd_.topRightCorner<8, 4>() = Kt.block<8, 4>(0, 20);
+  Kd_.bottomLeftCorner<4, 8>() = Kt.block<4, 8>(20, 0);
+  Kd_.bottomRightCorner<4, 4>() = Kt.bottomRightCorner<4, 4>();
 }
 
 ShellElement::StrainOperators ShellElement::strain_operators(double xi, double eta) const {
@@ -322,6 +363,25 @@ ShellElement::GreenOperators ShellElement::green_operators(int gauss_point) cons
 }
 
 void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W, double* energy) const {
+  ElemMat Kt;
+  evaluate(d_W, f_W, K_W ? &Kt : nullptr, energy);
+  if (!K_W) return;
+  ElemMat K;  // node-major
+  for (int b = 0; b < 4; ++b)
+    for (int r = 0; r < kNodeDofs; ++r)
+      for (int a = 0; a < 4; ++a)
+        for (int s = 0; s < kNodeDofs; ++s)
+          K(kNodeDofs * a + s, kNodeDofs * b + r) = Kt(4 * s + a, 4 * r + b);
+  *K_W = to_world(K);
+}
+
+bool ShellElement::tangent_type_major(const ElemVec& d_W, ElemMat* K_t) const {
+  if (!world_axes_) return false;
+  evaluate(d_W, nullptr, K_t, nullptr);
+  return true;
+}
+
+DEPLOYFX_FLATTEN void ShellElement::evaluate(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_t, double* energy) const {
   // Each strain operator touches few of the 24 dofs, through the nodes' shape functions: Bm and
   // G the (u, v, w), Bb the (theta_x, theta_y), Bs the (w, theta_x, theta_y), Bd the (u, v,
   // theta_z). The force and tangent are formed from those, with the tangent in the dof-type-major
@@ -334,6 +394,7 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
   // Column a: node a's dofs.
   const Eigen::Map<const Eigen::Matrix<double, kNodeDofs, 4>> X(d.data());
   Eigen::Matrix<double, kNodeDofs, 4> F = Eigen::Matrix<double, kNodeDofs, 4>::Zero();
+  const bool K_W = K_t != nullptr;
   ElemMat Kt;  // type-major
   if (K_W) Kt.setZero();
   if (energy) *energy = 0;
@@ -378,30 +439,27 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
     }
     if (!K_W) continue;
     // K_L + K_L* (Eq. 19, 23) on the compact operators: Bm_bar on (u, v, w), Bb on (theta_x,
-    // theta_y).
+    // theta_y). Only the terms with Bm_bar (it holds d's gradients) and the shear and drilling
+    // blocks that share its rows are formed here; the rest is d-free (constant_tangent()).
     Eigen::Matrix<double, 3, 12> Bm;
     for (int t = 0; t < 3; ++t) {
       Bm.block<1, 4>(0, 4 * t) = gx(t) * p.dNx.transpose();
       Bm.block<1, 4>(1, 4 * t) = gy(t) * p.dNy.transpose();
       Bm.block<1, 4>(2, 4 * t) = gx(t) * p.dNy.transpose() + gy(t) * p.dNx.transpose();
     }
-    Eigen::Matrix<double, 3, 8> Bb;
-    Bb << Eigen::RowVector4d::Zero(), p.dNx.transpose(),  //
-        -p.dNy.transpose(), Eigen::RowVector4d::Zero(),   //
-        -p.dNx.transpose(), p.dNy.transpose();
-    const Eigen::Matrix<double, 3, 12> wABm = (w * A_) * Bm;
-    const Eigen::Matrix<double, 3, 8> wBBb = (w * B_) * Bb, wDBb = (w * D_) * Bb;
-    Kt.topLeftCorner<12, 12>().noalias() += Bm.transpose() * wABm;
-    Kt.block<12, 8>(0, 12).noalias() += Bm.transpose() * wBBb;
-    Kt.block<8, 8>(12, 12).noalias() += Bb.transpose() * wDBb;
-    Kt.block<12, 12>(8, 8).noalias() += p.Bs_wr.transpose() * ((w * As_) * p.Bs_wr);
-    Eigen::Matrix<double, 12, 1> bd;  // Bd on (u, v, theta_z)
-    bd << 0.5 * p.dNy, -0.5 * p.dNx, p.N;
-    const Eigen::Matrix<double, 12, 12> Kd = (w * drill_modulus_) * bd * bd.transpose();
-    Kt.topLeftCorner<8, 8>() += Kd.topLeftCorner<8, 8>();
-    Kt.block<8, 4>(0, 20) += Kd.topRightCorner<8, 4>();
-    Kt.block<4, 8>(20, 0) += Kd.bottomLeftCorner<4, 8>();
-    Kt.bottomRightCorner<4, 4>() += Kd.bottomRightCorner<4, 4>();
+    const Eigen::Matrix<double, 3, 12> wABm = p.wA * Bm;
+    // Eigen sends a fixed 12 x 3 x 12 product to its general GEMM (packing, blocking): 30 % of the
+    // tangent. lazyProduct with a column-major left factor is the same sums in the same order
+    // (over the depth, each a product then fused multiply-adds, added to Kt), in registers.
+    const Eigen::Matrix<double, 12, 3> BmT = Bm.transpose();
+    Kt.topLeftCorner<12, 12>().noalias() += BmT.lazyProduct(wABm);
+    Kt.block<12, 8>(0, 12).noalias() += BmT.lazyProduct(p.wBBb);
+    // The shear's rows of w; its rows of (theta_x, theta_y) are in K_rot_ or below the diagonal.
+    Kt.block<4, 12>(8, 8).noalias() += p.Bs_wrT.topRows<4>().lazyProduct(p.wAsBs);
+    Eigen::Matrix<double, 8, 1> bd;  // Bd on (u, v); its theta_z part is in Kd_
+    bd << 0.5 * p.dNy, -0.5 * p.dNx;
+    const Eigen::Matrix<double, 8, 8> Kd = (w * drill_modulus_) * bd * bd.transpose();
+    Kt.topLeftCorner<8, 8>() += Kd;
     // K_s (Eq. 22): G^T N_s G = S (x) I3 on (u, v, w), S = the resultants on the gradients.
     if (N.squaredNorm() > 0) {
       const Eigen::Matrix4d S =
@@ -412,14 +470,13 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
   }
   if (f_W) *f_W = to_world(ElemVec(Eigen::Map<const ElemVec>(F.data())));
   if (!K_W) return;
+  // The blocks no d reaches (constant_tangent()), and the symmetric one.
+  Kt.block<8, 8>(12, 12) = K_rot_;
+  Kt.block<8, 4>(0, 20) = Kd_.topRightCorner<8, 4>();
+  Kt.block<4, 8>(20, 0) = Kd_.bottomLeftCorner<4, 8>();
+  Kt.bottomRightCorner<4, 4>() = Kd_.bottomRightCorner<4, 4>();
   Kt.block<8, 12>(12, 0) = Kt.block<12, 8>(0, 12).transpose();
-  ElemMat K;  // node-major
-  for (int b = 0; b < 4; ++b)
-    for (int r = 0; r < kNodeDofs; ++r)
-      for (int a = 0; a < 4; ++a)
-        for (int s = 0; s < kNodeDofs; ++s)
-          K(kNodeDofs * a + s, kNodeDofs * b + r) = Kt(4 * s + a, 4 * r + b);
-  *K_W = to_world(K);
+  *K_t = Kt;
 }
 
 }  // namespace deployfx::fem

@@ -74,6 +74,11 @@ class ShellElement {
   /// Internal force f = dU/dd and tangent K_T = K_L + K_L*(d) + K_s(N(d)) (world dofs), and the
   /// strain energy U from the same strains (J; strain_energy() is the independent reference).
   void internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W, double* energy = nullptr) const;
+  /// For an element whose axes are the world's (a mesh in the x-y plane along x), the tangent of
+  /// internal_force() in the dof-type-major order it is formed in, row and column 4 t + a for dof
+  /// type t (u, v, w, theta_x, theta_y, theta_z) of node a: assembly without reordering it. False
+  /// (K_t untouched) for any other element.
+  bool tangent_type_major(const ElemVec& d_W, ElemMat* K_t) const;
 
   /// The ingredients of the Green membrane strain at Gauss point g, on world dofs, for its exact
   /// projection on a Ritz basis (fem/modal_internal_force): the gradients psi = G d (Eq. 20), so
@@ -123,7 +128,16 @@ class ShellElement {
     // on the dofs it touches, (w, theta_x, theta_y) of the four nodes, column 4 k + node.
     Eigen::Vector4d N, dNx, dNy;
     Eigen::Matrix<double, 2, 12> Bs_wr;
+    Eigen::Matrix<double, 12, 2> Bs_wrT;  // its transpose, column-major (the tangent's products)
+    // The tangent's factors that no displacement enters: w A, w B Bb, w As Bs_wr.
+    Eigen::Matrix3d wA;
+    Eigen::Matrix<double, 3, 8> wBBb;
+    Eigen::Matrix<double, 2, 12> wAsBs;
   };
+  /// internal_force()'s force (world axes) and type-major tangent (E axes), each if asked for.
+  void evaluate(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_t, double* energy) const;
+  /// The tangent's blocks that no displacement enters, into K_rot_ and Kd_ (constructor).
+  void constant_tangent();
   /// d_E = T d_W, T = blockdiag(R_WE^T); returns T^T K T. (The identity, copying, for an element
   /// whose axes are the world's: a mesh in the x-y plane along x.)
   ElemMat to_world(const ElemMat& K_E) const;
@@ -142,6 +156,11 @@ class ShellElement {
   Eigen::Matrix<double, 4, 3> X_W_;  // node positions, world, m
   std::array<RowOp, 4> tying_;      // MITC4 covariant shear at the tying points B, D, A, C
   std::array<GaussPoint, 4> gp_;
+  // Their sums over the Gauss points (type-major): bending and shear on (theta_x, theta_y), and
+  // the drilling penalty's blocks with theta_z (the (u, v) x theta_z, theta_z x (u, v) and
+  // theta_z x theta_z corners of a 12 x 12 on (u, v, theta_z); the rest unused).
+  Eigen::Matrix<double, 8, 8> K_rot_;
+  Eigen::Matrix<double, 12, 12> Kd_;
 };
 
 }  // namespace deployfx::fem

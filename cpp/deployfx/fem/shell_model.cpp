@@ -1,5 +1,6 @@
 #include "deployfx/fem/shell_model.hpp"
 
+#include <array>
 #include <stdexcept>
 #include <string>
 
@@ -156,12 +157,27 @@ void ShellModel::add_tangent(const Eigen::VectorXd& u, const std::vector<int>& s
   if (slots.size() != slots_.size())
     throw std::invalid_argument("add_tangent: slots must have 576 entries per element (" +
                                 std::to_string(slots_.size()) + "), got " + std::to_string(slots.size()));
+  // Entry k of the node-major element tangent the slots are given for is entry type_major[k] of
+  // the type-major one (ShellElement::tangent_type_major), read in the slots' order: a node's six
+  // rows are adjacent in the values.
+  static const std::array<int, kEntries> type_major = [] {
+    std::array<int, kEntries> out{};
+    for (int r = 0; r < kElementDofs; ++r)
+      for (int c = 0; c < kElementDofs; ++c)
+        out[kElementDofs * c + r] = kElementDofs * (4 * (c % kNodeDofs) + c / kNodeDofs) + 4 * (r % kNodeDofs) + r / kNodeDofs;
+    return out;
+  }();
   for (int e = 0; e < num_elements(); ++e) {
     ElemVec fe;
     ElemMat Ke;
+    const int* slot = slots.data() + static_cast<std::size_t>(e) * kEntries;
+    if (!f && elements_[e].tangent_type_major(gather(u, e), &Ke)) {
+      for (int k = 0; k < kEntries; ++k)
+        if (slot[k] >= 0) values[slot[k]] += coef * Ke.data()[type_major[k]];
+      continue;
+    }
     elements_[e].internal_force(gather(u, e), f ? &fe : nullptr, &Ke);
     if (f) scatter(fe, e, f);
-    const int* slot = slots.data() + static_cast<std::size_t>(e) * kEntries;
     for (int k = 0; k < kEntries; ++k)
       if (slot[k] >= 0) values[slot[k]] += coef * Ke.data()[k];
   }

@@ -10,19 +10,18 @@ void BorderedSolver::analyze(const SparseMatrix& E) {
   pattern_nnz_ = E.nonZeros();
   pattern_rows_ = E.rows();
   lu_analyzed_ = false;
-  // The transpose partners (k, its partner's slot) of E's nonzeros in the lower triangle and on the
-  // diagonal, if E's pattern is structurally symmetric.
-  transpose_pairs_.clear();
+  // The slot of each nonzero's transpose partner, if E's pattern is structurally symmetric.
+  transpose_.clear();
   const int* outer = E.outerIndexPtr();
   const int* inner = E.innerIndexPtr();
   for (int j = 0; j < E.outerSize(); ++j)
     for (int k = outer[j]; k < outer[j + 1]; ++k) {
       const Eigen::Index partner = sparse_slot(E, j, inner[k]);
       if (partner < 0) {
-        transpose_pairs_.clear();  // not structurally symmetric: the exact LU only
+        transpose_.clear();  // not structurally symmetric: the exact LU only
         return;
       }
-      if (inner[k] >= j) transpose_pairs_.push_back({k, static_cast<int>(partner)});
+      transpose_.push_back(static_cast<int>(partner));
     }
   E_sym_ = E;
   E_skew_ = E;
@@ -56,16 +55,16 @@ Eigen::VectorXd BorderedSolver::solve_symmetric(const Eigen::VectorXd& r) const 
 }
 
 bool BorderedSolver::factorize_symmetric(const SparseMatrix& E) {
-  if (transpose_pairs_.empty() || skew_tolerance_ <= 0) return false;
-  // Each pair of entries (i, j), (j, i) read once: Es = (E + E^T)/2, Ek = (E - E^T)/2.
+  if (transpose_.empty() || skew_tolerance_ <= 0) return false;
+  // Es = (E + E^T)/2, Ek = (E - E^T)/2, written in the values' order (each partner read at random).
   const double* v = E.valuePtr();
   double* sym = E_sym_.valuePtr();
   double* skew = E_skew_.valuePtr();
-  for (const auto& [k, t] : transpose_pairs_) {
-    const double a = v[k], b = v[t];
-    sym[k] = sym[t] = 0.5 * (a + b);
+  const int* t = transpose_.data();
+  for (std::size_t k = 0; k < transpose_.size(); ++k) {
+    const double a = v[k], b = v[t[k]];
+    sym[k] = 0.5 * (a + b);
     skew[k] = 0.5 * (a - b);
-    skew[t] = 0.5 * (b - a);
   }
   if (!factorize_symmetric_part()) return false;
   // The dropped part makes the Newton iteration contract at the spectral radius of Es^-1 Ek

@@ -74,8 +74,8 @@ class BorderedSolver {
   bool ldlt_analyzed_ = false;
   bool block_ = false;  // kSymmetric: Es in block_E_ (else in ldlt_E_)
   SparseMatrix E_sym_, E_skew_;           // E's pattern, (E + E^T)/2 and (E - E^T)/2
-  // E's nonzeros (i, j) with i >= j, by slot, and the slot of (j, i); empty: not structurally symmetric
-  std::vector<std::pair<int, int>> transpose_pairs_;
+  // For each of E's nonzeros (i, j) the slot of (j, i); empty: not structurally symmetric
+  std::vector<int> transpose_;
   bool lu_analyzed_ = false;
   Method method_ = Method::kExact;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_schur_;

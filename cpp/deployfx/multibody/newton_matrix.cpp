@@ -221,10 +221,15 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
     // With the panel's block as the whole elastic block, its values are formed in S.E itself.
     const fem::FreeBlock& block = b.panel->block();
     Eigen::VectorXd own;
-    if (pattern.identity)
-      S.E = block.matrix();
-    else
+    if (pattern.identity) {  // the pattern alone: mass_combination() writes every value
+      const Eigen::SparseMatrix<double>& P = block.matrix();
+      S.E.resize(P.rows(), P.cols());
+      S.E.resizeNonZeros(P.nonZeros());
+      std::copy(P.outerIndexPtr(), P.outerIndexPtr() + P.outerSize() + 1, S.E.outerIndexPtr());
+      std::copy(P.innerIndexPtr(), P.innerIndexPtr() + P.nonZeros(), S.E.innerIndexPtr());
+    } else {
       own.resize(block.nonzeros());
+    }
     Eigen::Map<Eigen::VectorXd> vals(pattern.identity ? S.E.valuePtr() : own.data(), block.nonzeros());
     b.panel->mass_combination(c_a, cm, vals);
     b.panel->add_elastic_block(d.elastic[j].d, c_v, c_q, vals, &d.panels[j]);  // K_T (or K_L), damping
