@@ -21,9 +21,7 @@ own cost. No assertions: speed is measured here, not tested.
 """
 from __future__ import annotations
 
-import os
-
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # one core, like the engine (before numpy)
+import one_thread  # noqa: F401  (first: one BLAS thread for CPU times)
 
 import argparse  # noqa: E402
 import time  # noqa: E402

@@ -22,6 +22,8 @@ No assertions: speed is measured here, not tested.
 """
 from __future__ import annotations
 
+import one_thread  # noqa: F401  (first: one BLAS thread for CPU times)
+
 import argparse
 import statistics
 import time

@@ -15,6 +15,8 @@ No assertions: the trade is measured here; tests/test_newton_tolerance.py tests 
 """
 from __future__ import annotations
 
+import one_thread  # noqa: F401  (first: one BLAS thread for CPU times)
+
 import argparse
 import statistics
 import time

@@ -17,9 +17,7 @@ series costs the same). Times are minima over repeats. No assertions: speed is m
 """
 from __future__ import annotations
 
-import os
-
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # one core, like the engine (before numpy)
+import one_thread  # noqa: F401  (first: one BLAS thread for CPU times)
 
 import argparse  # noqa: E402
 import time  # noqa: E402

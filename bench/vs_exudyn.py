@@ -61,6 +61,8 @@ and the modal coordinates in memory). No assertions: speed is measured here, not
 """
 from __future__ import annotations
 
+import one_thread  # noqa: F401  (first: one BLAS thread for CPU times)
+
 import argparse
 import sys
 import time

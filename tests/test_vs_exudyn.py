@@ -6,12 +6,14 @@ scheme. Skipped where Exudyn is not installed (the ``bench`` extra). Only result
 never times."""
 import importlib.util
 import pathlib
+import sys
 
 import numpy as np
 import pytest
 
 pytest.importorskip("exudyn")
 _path = pathlib.Path(__file__).resolve().parents[1] / "bench" / "vs_exudyn.py"
+sys.path.insert(0, str(_path.parent))  # its sibling modules (one_thread), as `python bench/vs_exudyn.py` has them
 _spec = importlib.util.spec_from_file_location("vs_exudyn", _path)
 vs_exudyn = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(vs_exudyn)
