@@ -9,8 +9,10 @@
 
 // The element kernel is one large function, and the compiler left its small fixed-size Eigen
 // products and assignments out of line (calls, a 3-vector through memory): flattened, they are
-// inlined (15 x 10, 150 element forces 55 -> 30 us, tangents 170 -> 147 us).
-#if defined(__GNUC__)
+// inlined (15 x 10, 150 element forces 55 -> 30 us, tangents 170 -> 147 us). Only in optimized,
+// uninstrumented builds: under ASan and UBSan (tools/sanitize.sh, -O1 -g) the flattened kernel
+// took GCC 12 more than 19 min and 1.9 GB to compile, against about a minute without.
+#if defined(__GNUC__) && defined(__OPTIMIZE__) && !defined(DEPLOYFX_SANITIZED)
 #define DEPLOYFX_FLATTEN __attribute__((flatten))
 #else
 #define DEPLOYFX_FLATTEN
