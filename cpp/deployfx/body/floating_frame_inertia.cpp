@@ -2,7 +2,6 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -310,8 +309,9 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Prod
   // with z = d (M_ij^T z = M_ji z); (J x) = tr(E) x - E x.
   // Row l: x_l tr(g) - sum_j x_j g_lj, g_lj = (M_jl z + M_lj z)^T [+ C_(lj) + C_(jl)], summed in
   // place (no temporaries: these run four times a Newton matrix), column by column (D's columns
-  // are contiguous, its rows strided): for each entry the terms in the order above, with the
-  // rounding of a row-by-row sum (the first term rounded, each further one a fused multiply-add).
+  // are contiguous, its rows strided): for each entry the terms in the order above, written as
+  // plain products and sums so the compiler contracts them as it did the row-by-row sums (fused
+  // multiply-adds where the target has them; std::fma would be a library call where it has not).
   const Eigen::Index n = num_dofs();
   Matrix3X D(3, n);
   std::array<const double*, 9> Pk;
@@ -322,10 +322,10 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Prod
     const double trC = with_C ? C_(0, c) + C_(4, c) + C_(8, c) : 0.0;
     for (int l = 0; l < 3; ++l) {
       double v = x2(l) * trP;
-      if (with_C) v = std::fma(x2(l), trC, v);
+      if (with_C) v += x2(l) * trC;
       for (int j = 0; j < 3; ++j) {
-        v = std::fma(-x(j), Pk[3 * j + l][c] + Pk[3 * l + j][c], v);
-        if (with_C) v = std::fma(-x(j), C_(3 * l + j, c) + C_(3 * j + l, c), v);
+        v -= x(j) * (Pk[3 * j + l][c] + Pk[3 * l + j][c]);
+        if (with_C) v -= x(j) * (C_(3 * l + j, c) + C_(3 * j + l, c));
       }
       D(l, c) = v;
     }
