@@ -28,7 +28,7 @@ P_HINGE = np.array([0.83, 0.0, 0.0])
 B_H, W = 0.03, 1.3
 TAU0, K_THETA = 7.2, 80.0e-3 * 180 / np.pi
 THETA_LOCK = 0.05
-FIDELITIES = ["rigid", "linear", "nonlinear", "reduced-linear", "reduced-nonlinear"]
+FIDELITIES = ["rigid", "linear", "nonlinear", "reduced-linear", "reduced-nonlinear", "reduced-manifold"]
 RTOL, ATOL = 1e-7, 1e-11
 
 
@@ -88,7 +88,8 @@ def generic_state(sys, fidelity, free, seed=0):
     ne = num_elastic(sys)
     if ne:
         if fidelity.startswith("reduced"):  # Ritz coordinates scaled to ~1 cm of displacement
-            scale = 1e-2 / np.abs(sys.displacement_map(0)).max(axis=0)
+            shapes = sys.displacement_map(0) @ sys.panel_tangent(0, np.zeros(ne))  # manifold: bending's
+            scale = 1e-2 / np.abs(shapes).max(axis=0)
         else:
             scale = np.full(ne, 1e-3)
         q[nq - ne:] = scale * rng.normal(size=ne)

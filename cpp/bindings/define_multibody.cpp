@@ -211,8 +211,40 @@ void define_multibody(py::module_& m) {
             return panel->mesh_rows(all);
           },
           py::arg("hinge"),
-          "Hinge k's panel: mesh displacements per elastic coordinate, (6 nodes x num_elastic): the Ritz basis of a "
-          "reduced panel, a selection of the free dofs for a full one; empty without a deforming panel.")
+          "Hinge k's panel: mesh displacements per panel coordinate (panel_coordinates), (6 nodes x count): the Ritz "
+          "basis of a reduced panel, a selection of the free dofs for a full one; empty without a deforming panel.")
+      .def(
+          "panel_coordinates",
+          [](const Model& s, int k, const Eigen::MatrixXd& Q) {
+            check_hinge(s, k);
+            const auto& panel = s.body(k).panel;
+            const int n = s.body(k).n_el;
+            if (!panel || Q.cols() != n)
+              throw std::invalid_argument("q_el must be (n, " + std::to_string(n) + ") (hinge " + std::to_string(k) +
+                                          "'s elastic coordinates), got " + std::to_string(Q.rows()) + " x " +
+                                          std::to_string(Q.cols()));
+            Eigen::MatrixXd out(Q.rows(), panel->num_coordinates());
+            for (Eigen::Index i = 0; i < Q.rows(); ++i) out.row(i) = panel->coordinates(Q.row(i).transpose()).transpose();
+            return out;
+          },
+          py::arg("hinge"), py::arg("q_el"),
+          "Hinge k's panel coordinates (the columns of displacement_map) at each row of its elastic coordinates "
+          "q_el (n x num_elastic): eta = g(q) for 'reduced-manifold' (the in-plane Ritz coordinates slaved to the "
+          "bending ones), q_el itself otherwise.")
+      .def(
+          "panel_tangent",
+          [](const Model& s, int k, const Eigen::VectorXd& q) {
+            check_hinge(s, k);
+            const auto& panel = s.body(k).panel;
+            const int n = s.body(k).n_el;
+            if (!panel || q.size() != n)
+              throw std::invalid_argument("q_el must have " + std::to_string(n) + " entries (hinge " +
+                                          std::to_string(k) + "'s elastic coordinates), got " + std::to_string(q.size()));
+            return panel->coordinates_jacobian(q);
+          },
+          py::arg("hinge"), py::arg("q_el"),
+          "d panel_coordinates / d q_el at q_el, (count x num_elastic): a velocity or shape s of the elastic "
+          "coordinates moves the mesh by displacement_map @ panel_tangent @ s.")
       .def(
           "basis_info",
           [](const Model& s, int k) -> py::object {

@@ -3,6 +3,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 
 #include "deployfx/fem/constrained_solve.hpp"
@@ -17,9 +18,10 @@ Fidelity fidelity_from_name(const std::string& value, const std::string& name) {
   if (value == "nonlinear") return Fidelity::kNonlinear;
   if (value == "reduced-linear") return Fidelity::kReducedLinear;
   if (value == "reduced-nonlinear") return Fidelity::kReducedNonlinear;
+  if (value == "reduced-manifold") return Fidelity::kReducedManifold;
   throw std::invalid_argument(name + " = '" + value +
-                              "' is invalid: must be 'rigid', 'linear', 'nonlinear', 'reduced-linear' or "
-                              "'reduced-nonlinear'");
+                              "' is invalid: must be 'rigid', 'linear', 'nonlinear', 'reduced-linear', "
+                              "'reduced-nonlinear' or 'reduced-manifold'");
 }
 
 namespace {
@@ -45,6 +47,21 @@ void check_clamped(const fem::ShellModel& model, const std::vector<int>& fixed, 
                                 "every dof of the root edge's nodes");
 }
 
+// The coefficients c of the nine M_ij in the derivatives of the generalized inertial force Q
+// (FloatingFrameInertia, Eq. 9) along the panel's own coordinates: c_v dQ/dd' + c_q dQ/dd =
+// c_v 2 G_y(w) + c_q (G_y(al) + G_w(w)), G_y(x) = sum_i x_j M_ik - x_k M_ij (i, j, k cyclic),
+// G_w(w) = sum w_i w_l M_il - |w|^2 M_ii.
+Eigen::Matrix3d mass_coefficients(const Eigen::Vector3d& w, const Eigen::Vector3d& al, double c_v, double c_q) {
+  const Eigen::Vector3d x = 2 * c_v * w + c_q * al;
+  Eigen::Matrix3d cm = c_q * (w * w.transpose() - w.squaredNorm() * Eigen::Matrix3d::Identity());
+  for (int i = 0; i < 3; ++i) {
+    const int jn = (i + 1) % 3, l = (i + 2) % 3;
+    cm(i, l) += x(jn);
+    cm(i, jn) -= x(l);
+  }
+  return cm;
+}
+
 }  // namespace
 
 FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Eigen::MatrixXd& extra_loads)
@@ -54,10 +71,12 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     throw_out_of_range(name + ".alpha_M", spec_.alpha_M, "finite and >= 0 (1/s)");
   if (!(spec_.beta_K >= 0 && std::isfinite(spec_.beta_K)))
     throw_out_of_range(name + ".beta_K", spec_.beta_K, "finite and >= 0 (s)");
-  green_ = spec_.fidelity == Fidelity::kNonlinear || spec_.fidelity == Fidelity::kReducedNonlinear;
+  green_ = spec_.fidelity == Fidelity::kNonlinear || spec_.fidelity == Fidelity::kReducedNonlinear ||
+           spec_.fidelity == Fidelity::kReducedManifold;
   const fem::ShellModel& model = *spec_.model;
   if (flexible()) check_clamped(model, spec_.fixed_dofs, name);
-  if (spec_.fidelity == Fidelity::kReducedLinear || spec_.fidelity == Fidelity::kReducedNonlinear) {
+  if (spec_.fidelity == Fidelity::kReducedLinear || spec_.fidelity == Fidelity::kReducedNonlinear ||
+      spec_.fidelity == Fidelity::kReducedManifold) {
     const int nfree = static_cast<int>(fem::free_dofs(model.num_dofs(), spec_.fixed_dofs).size());
     if (!(spec_.modes >= 1 && spec_.modes <= nfree))
       throw_out_of_range(name + ".modes", spec_.modes, "in [1, " + std::to_string(nfree) + "] (the free dofs)");
@@ -84,6 +103,22 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
                              {spec_.modes, true, green_ ? derivatives : 0, green_ ? partners : 0}, loads);
     modal_.emplace(model, basis_.Phi, green_);
     ffi_ = ffi_.projected(basis_.Phi);
+    if (spec_.fidelity == Fidelity::kReducedManifold) {
+      std::vector<fem::Parity> parity(static_cast<std::size_t>(basis_.Phi.cols()));
+      for (Eigen::Index i = 0; i < basis_.Phi.cols(); ++i) parity[i] = fem::vector_parity(basis_.Phi.col(i));
+      manifold_.emplace(*modal_, parity, name);
+      modal_.emplace(manifold_->condensed_force(*modal_));
+      L_eta_ = Eigen::MatrixXd(ffi_.M());
+      for (int im = 0; im < 9; ++im) Mij_eta_[im] = Eigen::MatrixXd(ffi_.Mij(im / 3, im % 3));
+      const int n = manifold_->num_coordinates();
+      free_ = manifold_->bending();
+      K_free_ = modal_->linear_stiffness().sparseView(0.0, 0.0);
+      M_free_ = fem::restrict(ffi_.M(), free_);
+      std::vector<int> all(static_cast<std::size_t>(n));
+      std::iota(all.begin(), all.end(), 0);
+      block_.emplace(Eigen::SparseMatrix<double>(Eigen::MatrixXd::Ones(n, n).sparseView()), all);
+      return;  // no in-plane coordinates left to relax (in_plane_coordinates())
+    }
     const int r = modal_->size();
     free_.resize(r);
     for (int i = 0; i < r; ++i) free_[i] = i;
@@ -144,20 +179,83 @@ void FlexibleBody::mass_combination(double c_a, const Eigen::Matrix3d& c, Eigen:
   }
 }
 
-Eigen::VectorXd FlexibleBody::full(const Eigen::VectorXd& d_free) const {
+Eigen::VectorXd FlexibleBody::full(const Eigen::VectorXd& q_el) const {
   Eigen::VectorXd d;
-  full(d_free, d);
+  full(q_el, d);
   return d;
 }
 
-void FlexibleBody::full(const Eigen::VectorXd& d_free, Eigen::VectorXd& d) const {
+void FlexibleBody::full(const Eigen::VectorXd& q_el, Eigen::VectorXd& d) const {
+  if (manifold_) return manifold_->map(q_el, d);
   d.setZero(ffi_.num_dofs());  // no allocation when d has the size already
-  for (int k = 0; k < num_elastic(); ++k) d(free_[k]) = d_free(k);
+  for (int k = 0; k < num_elastic(); ++k) d(free_[k]) = q_el(k);
+}
+
+void FlexibleBody::stage(ElasticState& s) const {
+  if (!manifold_) {
+    full(s.q, s.d);
+    full(s.v, s.dd);
+    full(s.a, s.ddd);
+    return;
+  }
+  manifold_->map(s.q, s.d);
+  manifold_->jacobian(s.q, s.G);
+  s.dd.noalias() = s.G * s.v;
+  s.ddd.noalias() = s.G * s.a;
+  manifold_->add_curvature(s.v, s.v, s.ddd);  // d'' = G q'' + C(q', q')
+}
+
+Eigen::VectorXd FlexibleBody::coordinates(const Eigen::VectorXd& q_el) const {
+  return manifold_ ? full(q_el) : q_el;
+}
+
+Eigen::MatrixXd FlexibleBody::coordinates_jacobian(const Eigen::VectorXd& q_el) const {
+  if (!manifold_) return Eigen::MatrixXd::Identity(num_elastic(), num_elastic());
+  Eigen::MatrixXd G;
+  manifold_->jacobian(q_el, G);
+  return G;
+}
+
+void FlexibleBody::add_projected(const ElasticState& s, const Eigen::VectorXd& Q, Eigen::Ref<Eigen::VectorXd> r) const {
+  if (manifold_) {
+    r.noalias() += s.G.transpose() * Q;
+    return;
+  }
+  for (int i = 0; i < num_elastic(); ++i) r(i) += Q(free_[i]);
+}
+
+Eigen::MatrixXd FlexibleBody::projected(const ElasticState& s, const Eigen::MatrixXd& X) const {
+  if (manifold_) return s.G.transpose() * X;
+  Eigen::MatrixXd out(num_elastic(), X.cols());
+  for (int i = 0; i < num_elastic(); ++i) out.row(i) = X.row(free_[i]);
+  return out;
+}
+
+Eigen::MatrixXd FlexibleBody::chain(const ElasticState& s, double c_a, const Eigen::MatrixXd& X_ddd, double c_v,
+                                    const Eigen::MatrixXd& X_dd, double c_q, const Eigen::MatrixXd& X_d) const {
+  const bool with_a = X_ddd.cols() > 0;
+  const Eigen::MatrixXd X = with_a ? Eigen::MatrixXd(c_a * X_ddd + c_v * X_dd + c_q * X_d)
+                                   : Eigen::MatrixXd(c_v * X_dd + c_q * X_d);
+  if (!manifold_) {
+    Eigen::MatrixXd out(X.rows(), num_elastic());
+    for (int i = 0; i < num_elastic(); ++i) out.col(i) = X.col(free_[i]);
+    return out;
+  }
+  // dd = G(q) q', ddd = G(q) q'' + C(q', q'): d(dd)/dq = C(q', .), d(ddd)/dq = C(q'', .),
+  // d(ddd)/dq' = 2 C(q', .).
+  Eigen::MatrixXd out = X * s.G, Cx;
+  manifold_->derivative(s.v, Cx);
+  out.noalias() += (with_a ? Eigen::MatrixXd(c_q * X_dd + 2 * c_v * X_ddd) : Eigen::MatrixXd(c_q * X_dd)) * Cx;
+  if (with_a && c_q != 0.0) {
+    manifold_->derivative(s.a, Cx);
+    out.noalias() += c_q * X_ddd * Cx;
+  }
+  return out;
 }
 
 Eigen::MatrixXd FlexibleBody::mesh_rows(const std::vector<int>& mesh_dofs) const {
   const int n = static_cast<int>(mesh_dofs.size());
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, num_elastic());
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, num_coordinates());
   for (int i = 0; i < n; ++i) {
     const int dof = mesh_dofs[i];
     if (dof < 0 || dof >= spec_.model->num_dofs()) throw std::out_of_range("mesh_rows: dof out of range");
@@ -171,17 +269,18 @@ Eigen::MatrixXd FlexibleBody::mesh_rows(const std::vector<int>& mesh_dofs) const
   return out;
 }
 
-void FlexibleBody::add_elastic_force(const Eigen::VectorXd& q_el, const Eigen::VectorXd& v_el,
-                                     const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
-                                     Eigen::Ref<Eigen::VectorXd> r, Workspace* ws) const {
+void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws) const {
   const int n = num_elastic();
   if (n == 0) return;
+  const Eigen::VectorXd &q_el = s.q, &v_el = s.v, &d = s.d, &dd = s.dd;
   if (modal_ && green_) {
-    // Reduced Green strain: the polynomial force and, for damping, its exact tangent.
+    // Reduced Green strain: the polynomial force and, for damping, its exact tangent. On the
+    // manifold alpha_M L_c acts on eta' (header).
     Eigen::VectorXd f;
     Eigen::MatrixXd T;
     modal_->evaluate(q_el, &f, spec_.beta_K > 0 ? &T : nullptr, ws ? &ws->modal : nullptr);
-    r += f + spec_.alpha_M * (M_free_ * v_el);
+    if (manifold_) r += f + spec_.alpha_M * (s.G.transpose() * (L_eta_ * dd));
+    else r += f + spec_.alpha_M * (M_free_ * v_el);
     if (spec_.beta_K > 0) r += spec_.beta_K * (T * v_el);
     return;
   }
@@ -210,12 +309,43 @@ void FlexibleBody::add_elastic_force(const Eigen::VectorXd& q_el, const Eigen::V
   }
 }
 
+void FlexibleBody::elastic_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Vector3d& w,
+                                 const Eigen::Vector3d& al, double c_a, double c_v, double c_q,
+                                 Eigen::Ref<Eigen::VectorXd> vals, Workspace* ws) const {
+  if (manifold_) {
+    manifold_block(s, Q, mass_coefficients(w, al, 1, 0), mass_coefficients(w, al, 0, 1), c_a, c_v, c_q, vals, ws);
+    return;
+  }
+  mass_combination(c_a, mass_coefficients(w, al, c_v, c_q), vals);
+  add_elastic_block(s.d, c_v, c_q, vals, ws);  // K_T (or K_L), damping
+}
+
+void FlexibleBody::manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Matrix3d& cm_v,
+                                  const Eigen::Matrix3d& cm_q, double c_a, double c_v, double c_q,
+                                  Eigen::Ref<Eigen::VectorXd> vals, Workspace* ws) const {
+  // On eta: dQ/d eta'' = L_c, dQ/d eta' = 2 G_y(w) + alpha_M L_c (the damping), dQ/d eta =
+  // G_y(al) + G_w(w). On q, by the staging's chain rule (chain()) and G^T's own derivative,
+  // sum_k (Q + alpha_M L_c eta')_k d^2 g_k / dq^2.
+  auto combination = [&](double c_L, const Eigen::Matrix3d& cm) {
+    Eigen::MatrixXd X = c_L * L_eta_;
+    for (int im = 0; im < 9; ++im)
+      if (cm(im / 3, im % 3) != 0.0) X += cm(im / 3, im % 3) * Mij_eta_[im];
+    return X;
+  };
+  const Eigen::MatrixXd D_v = combination(spec_.alpha_M, cm_v), D_q = combination(0.0, cm_q);
+  Eigen::MatrixXd E = projected(s, chain(s, c_a, L_eta_, c_v, D_v, c_q, D_q));
+  if (c_q != 0.0) E += c_q * manifold_->contract(Q + spec_.alpha_M * (L_eta_ * s.dd));
+  vals = Eigen::Map<const Eigen::VectorXd>(E.data(), E.size());  // every value (elastic_block())
+  add_elastic_block(s.q, c_v, c_q, vals, ws);  // the quartic's tangent; beta_K's damping
+}
+
 void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
                                      Workspace* ws) const {
   if (modal_ && green_) {
     Eigen::MatrixXd T;  // dense, column-major: the block's value order
     modal_->evaluate(d, nullptr, &T, ws ? &ws->modal : nullptr);
     vals += (c_q + c_v * spec_.beta_K) * Eigen::Map<const Eigen::VectorXd>(T.data(), T.size());
+    if (manifold_) return;  // alpha_M's part is the inertial force's (manifold_block)
   } else if (spec_.fidelity == Fidelity::kNonlinear) {
     // K_L + K_L* + K_s (Eq. 19, 22, 23) and the damping beta_K K_T (its d-derivative dropped).
     spec_.model->add_tangent(d, tangent_slots_, c_q + c_v * spec_.beta_K, vals.data());
@@ -225,18 +355,12 @@ void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, doubl
   vals += c_v * spec_.alpha_M * M_vals_;  // Rayleigh damping
 }
 
-Eigen::MatrixXd FlexibleBody::elastic_tangent(const Eigen::VectorXd& q_el, double c_v, double c_q) const {
-  Eigen::VectorXd vals = Eigen::VectorXd::Zero(block_->nonzeros());
-  add_elastic_block(full(q_el), c_v, c_q, vals);
-  return Eigen::MatrixXd(block_->with_values(vals));
-}
-
-double FlexibleBody::strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d, const Workspace* ws) const {
+double FlexibleBody::strain_energy(const ElasticState& s, const Workspace* ws) const {
   if (num_elastic() == 0) return 0.0;
-  if (modal_ && green_) return modal_->strain_energy(q_el, ws ? &ws->modal : nullptr);
-  if (!green_) return 0.5 * q_el.dot(K_free_ * q_el);
+  if (modal_ && green_) return modal_->strain_energy(s.q, ws ? &ws->modal : nullptr);
+  if (!green_) return 0.5 * s.q.dot(K_free_ * s.q);
   double U = 0;
-  spec_.model->internal_force(d, nullptr, nullptr, &U);
+  spec_.model->internal_force(s.d, nullptr, nullptr, &U);
   return U;
 }
 

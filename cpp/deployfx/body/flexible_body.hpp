@@ -6,13 +6,17 @@
 // elastic coordinates, and Rayleigh damping. Part of the immutable multibody::Model; what a run
 // remembers of it (the memos of its last evaluations) is a Workspace in the run's Data.
 //
-// Elastic coordinates: the free mesh dofs d (full fidelities) or the Ritz coordinates eta,
-// d = Phi eta (reduced). inertia() works on "its dofs": all mesh dofs for a full model (full()
-// scatters the free ones into them), the Ritz coordinates for a reduced one (full() is then the
-// identity). The elastic force on them is (docs/engine-design.md, "Fidelity", "Damping")
+// Elastic coordinates q: the free mesh dofs d (full fidelities) or the Ritz coordinates eta,
+// d = Phi eta (reduced); for reduced-manifold the bending Ritz coordinates alone, the in-plane
+// ones slaved, eta = g(q) (fem/quadratic_manifold.hpp). inertia() works on "its dofs": all mesh
+// dofs for a full model (stage() scatters the free ones into them), the Ritz coordinates for a
+// reduced one (the identity, or g). The elastic force on them is (docs/engine-design.md,
+// "Fidelity", "Damping")
 //   f_int(d) + alpha_M L_c d' + beta_K K(d) d',
-// f_int = K_L d (linear strain) or Green strain's force (Eq. 14; reduced: the exact cubic),
-// K(d) = K_L or the tangent K_T(d) (damping the strain rate, so rigid motion is undamped).
+// f_int = K_L d (linear strain) or Green strain's force (Eq. 14; reduced: the exact cubic;
+// manifold: the quartic g condenses exactly), K(d) = K_L or the tangent K_T(d) (damping the strain
+// rate, so rigid motion is undamped). On the manifold, alpha_M L_c d' acts on eta and is projected
+// with the inertial force: G^T (Q + alpha_M L_c eta').
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
@@ -24,18 +28,27 @@
 #include "deployfx/body/floating_frame_inertia.hpp"
 #include "deployfx/fem/free_block.hpp"
 #include "deployfx/fem/modal_internal_force.hpp"
+#include "deployfx/fem/quadratic_manifold.hpp"
 #include "deployfx/fem/ritz_basis.hpp"
 #include "deployfx/fem/shell_model.hpp"
 
 namespace deployfx::body {
 
 /// The appendage's model: one rigid body; finite elements with linear or Green strain (Eq. 14);
-/// or the same two reduced to a Ritz basis (fem/ritz_basis.hpp) of a few modes.
-enum class Fidelity { kRigid, kLinear, kNonlinear, kReducedLinear, kReducedNonlinear };
+/// the same two reduced to a Ritz basis (fem/ritz_basis.hpp) of a few modes; or reduced Green
+/// strain with the in-plane coordinates slaved to the bending ones (fem/quadratic_manifold.hpp).
+enum class Fidelity { kRigid, kLinear, kNonlinear, kReducedLinear, kReducedNonlinear, kReducedManifold };
 
-/// The fidelity named "rigid", "linear", "nonlinear", "reduced-linear" or "reduced-nonlinear";
-/// std::invalid_argument naming `name` and the allowed values otherwise.
+/// The fidelity named "rigid", "linear", "nonlinear", "reduced-linear", "reduced-nonlinear" or
+/// "reduced-manifold"; std::invalid_argument naming `name` and the allowed values otherwise.
 Fidelity fidelity_from_name(const std::string& value, const std::string& name = "fidelity");
+
+/// A panel's elastic state staged for one evaluation (multibody::Data keeps one per panel).
+struct ElasticState {
+  Eigen::VectorXd q, v, a;     ///< its elastic coordinates, rates, accelerations (n_el)
+  Eigen::VectorXd d, dd, ddd;  ///< the same on its inertia's dofs (FlexibleBody::stage)
+  Eigen::MatrixXd G;           ///< manifold: dd/dq (inertia dofs x n_el); empty otherwise
+};
 
 struct AppendageSpec {
   std::shared_ptr<const fem::ShellModel> model;  ///< nodes in E (m)
@@ -80,50 +93,68 @@ class FlexibleBody {
   bool flexible() const { return spec_.fidelity != Fidelity::kRigid; }
   bool green() const { return green_; }  ///< Green strain (full or reduced)
   bool reduced() const { return modal_.has_value(); }
+  bool manifold() const { return manifold_.has_value(); }
   /// The elastic coordinates (0 for a rigid appendage).
   int num_elastic() const { return static_cast<int>(free_.size()); }
   /// The shape integrals on its dofs (projected on the basis for a reduced model).
   const FloatingFrameInertia& inertia() const { return ffi_; }
   /// Reduced: mesh displacements d = basis().Phi eta (empty for a full model).
   const fem::RitzBasis& basis() const { return basis_; }
-  /// The elastic coordinates among inertia()'s dofs.
+  /// The elastic coordinates among inertia()'s dofs (manifold: the bending Ritz coordinates).
   const std::vector<int>& free_dofs() const { return free_; }
-  /// inertia()'s dofs from the elastic coordinates (zero on the clamped ones).
-  Eigen::VectorXd full(const Eigen::VectorXd& d_free) const;
+  /// inertia()'s dofs from the elastic coordinates: zero on the clamped ones; g(q) on the manifold.
+  Eigen::VectorXd full(const Eigen::VectorXd& q_el) const;
   /// The same into `d` (a run's staged state: its storage is reused).
-  void full(const Eigen::VectorXd& d_free, Eigen::VectorXd& d) const;
-  /// The displacement of the given mesh dofs per elastic coordinate, (rows.size() x num_elastic()):
-  /// rows of the basis (reduced) or a selection (full; zero rows for clamped dofs).
+  void full(const Eigen::VectorXd& q_el, Eigen::VectorXd& d) const;
+  /// Stages s.d, s.dd, s.ddd (and s.G) from s.q, s.v, s.a: d = full(q), dd = G v,
+  /// ddd = G a + C(v, v) (the manifold's curvature; 0 otherwise).
+  void stage(ElasticState& s) const;
+  /// The coordinates mesh_rows() multiplies: the Ritz coordinates of a reduced panel (g(q) on
+  /// the manifold), the elastic coordinates of a full one.
+  int num_coordinates() const { return manifold_ ? manifold_->num_dofs() : num_elastic(); }
+  /// The displacement of the given mesh dofs per coordinate (num_coordinates()), (rows.size() x
+  /// num_coordinates()): rows of the basis (reduced) or a selection (full; zero rows for clamped dofs).
   Eigen::MatrixXd mesh_rows(const std::vector<int>& mesh_dofs) const;
+  /// Those coordinates at q_el, and their derivative in q_el (num_coordinates() x num_elastic()):
+  /// g(q) and G(q) on the manifold, q_el and the identity otherwise.
+  Eigen::VectorXd coordinates(const Eigen::VectorXd& q_el) const;
+  Eigen::MatrixXd coordinates_jacobian(const Eigen::VectorXd& q_el) const;
 
-  /// Adds the elastic force (header) on the elastic coordinates q_el at rates v_el to r
-  /// (size num_elastic()); d and dd are full(q_el) and full(v_el).
-  void add_elastic_force(const Eigen::VectorXd& q_el, const Eigen::VectorXd& v_el, const Eigen::VectorXd& d,
-                         const Eigen::VectorXd& dd, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws = nullptr) const;
-  /// Adds c_q d/dq + c_v d/dv of the elastic force at d = full(q_el) to values aligned with
-  /// block() (the d-derivative of the damping beta_K K_T(d) d' dropped).
-  void add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
-                         Workspace* ws = nullptr) const;
-  /// The same as a dense (num_elastic() x num_elastic()) matrix.
-  Eigen::MatrixXd elastic_tangent(const Eigen::VectorXd& q_el, double c_v, double c_q) const;
+  /// Adds to r (size num_elastic()) the generalized force on the elastic coordinates of a force Q
+  /// on inertia()'s dofs: its free entries, or G^T Q on the manifold.
+  void add_projected(const ElasticState& s, const Eigen::VectorXd& Q, Eigen::Ref<Eigen::VectorXd> r) const;
+  /// The same for each column of X (inertia dofs x m): (num_elastic() x m).
+  Eigen::MatrixXd projected(const ElasticState& s, const Eigen::MatrixXd& X) const;
+  /// The derivative along the elastic coordinates of a quantity y(d, dd, ddd) given its
+  /// derivatives X_d, X_dd, X_ddd (m x inertia dofs; X_ddd may have no columns: y does not depend
+  /// on ddd), combined as c_a d/da + c_v d/dv + c_q d/dq through the staging (stage()):
+  /// (c_a X_ddd + c_v X_dd + c_q X_d) G + (c_q X_dd + 2 c_v X_ddd) C(v, .) + c_q X_ddd C(a, .) on the
+  /// manifold, the free columns of the first term otherwise. (m x num_elastic())
+  Eigen::MatrixXd chain(const ElasticState& s, double c_a, const Eigen::MatrixXd& X_ddd, double c_v,
+                        const Eigen::MatrixXd& X_dd, double c_q, const Eigen::MatrixXd& X_d) const;
+
+  /// Adds the elastic force (header) at the staged s to r (size num_elastic()).
+  void add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws = nullptr) const;
+  /// The panel's own block of a Newton matrix (c_a d/da + c_v d/dv + c_q d/dq of its elastic rows
+  /// in its elastic coordinates) into values aligned with block(): its generalized inertial force's
+  /// (Q: its value at s; w, al: the frame's angular velocity and acceleration, in its axes) and the
+  /// elastic force's (the d-derivative of the damping beta_K K_T(d) d' dropped).
+  void elastic_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Vector3d& w,
+                     const Eigen::Vector3d& al, double c_a, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
+                     Workspace* ws = nullptr) const;
   /// Green strain on a basis or mesh that splits by parity (fem/parity.hpp: a flat laminate
   /// without membrane-bending coupling): the elastic coordinates that move the mid-surface in its
   /// plane (in-plane Ritz vectors, or the u, v, theta_z dofs); empty otherwise. They are stiff
   /// (the paper's panel: omega dt = 14-670 for its in-plane Ritz vectors at dt = 10 ms) and
   /// follow the bending quadratically: integrate::SecondOrderSystem::slaved_velocities.
   const std::vector<int>& in_plane_coordinates() const { return in_plane_; }
-  /// Strain energy at q_el (d = full(q_el)), J.
-  double strain_energy(const Eigen::VectorXd& q_el, const Eigen::VectorXd& d, const Workspace* ws = nullptr) const;
+  /// Strain energy at the staged s, J.
+  double strain_energy(const ElasticState& s, const Workspace* ws = nullptr) const;
 
   /// The elastic block of a Newton matrix on the mesh's node-block pattern (a dense pattern for a
   /// reduced model), with L_c, K_L and the nine M_ij aligned to it: a combination of them is a
   /// sum of value arrays (fem/free_block.hpp). Absent for a rigid appendage.
   const fem::FreeBlock& block() const { return *block_; }
-  /// vals = c_a L_c + sum_ij c(i, j) M_ij, aligned with block() (vals of its size: e.g. the values
-  /// of a copy of block().matrix(), filled in place): the inertial part of a Newton matrix's
-  /// elastic block. Each M_ij is summed over its own nonzeros (on a mesh, 3-11 % of the block's
-  /// entries each: it couples two translation components).
-  void mass_combination(double c_a, const Eigen::Matrix3d& c, Eigen::Ref<Eigen::VectorXd> vals) const;
   const Eigen::SparseMatrix<double>& stiffness() const { return K_free_; }  ///< K_L, free
   const Eigen::SparseMatrix<double>& mass() const { return M_free_; }       ///< L_c, free
 
@@ -132,7 +163,21 @@ class FlexibleBody {
   FloatingFrameInertia ffi_;
   bool green_ = false;
   fem::RitzBasis basis_;
-  std::optional<fem::ModalInternalForce> modal_;  // reduced fidelities
+  std::optional<fem::ModalInternalForce> modal_;  // reduced fidelities: the force on q
+  std::optional<fem::QuadraticManifold> manifold_;
+  // Manifold: L_c and the nine M_ij on eta, dense (the block on q is G^T (.) G of them).
+  Eigen::MatrixXd L_eta_;
+  std::array<Eigen::MatrixXd, 9> Mij_eta_;
+  // vals = c_a L_c + sum_ij c(i, j) M_ij, aligned with block(): the inertial part of a Newton
+  // matrix's elastic block. Each M_ij is summed over its own nonzeros (on a mesh, 3-11 % of the
+  // block's entries each: it couples two translation components). Not for the manifold.
+  void mass_combination(double c_a, const Eigen::Matrix3d& c, Eigen::Ref<Eigen::VectorXd> vals) const;
+  // Adds c_q d/dq + c_v d/dv of the elastic force to vals (the manifold's alpha_M term excepted).
+  void add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
+                         Workspace* ws) const;
+  void manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Matrix3d& cm_v,
+                      const Eigen::Matrix3d& cm_q, double c_a, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
+                      Workspace* ws) const;
   std::vector<int> free_;
   std::vector<int> in_plane_;  // in_plane_coordinates()
   Eigen::SparseMatrix<double> K_free_, M_free_;

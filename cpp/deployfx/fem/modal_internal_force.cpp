@@ -99,6 +99,56 @@ ModalInternalForce::ModalInternalForce(const ShellModel& model, const Eigen::Mat
     for (int t = 0; t < n; ++t)
       for (int s = 0; s <= t; ++s) Bb(s, t) = Bb(t, s) = B(first + s, first + t);
   }
+  index_slots();
+}
+
+ModalInternalForce::ModalInternalForce(Eigen::MatrixXd K, Eigen::MatrixXd A, Eigen::MatrixXd B)
+    : green_(true), K_(std::move(K)) {
+  const Eigen::Index r = K_.rows(), np = r * (r + 1) / 2;
+  if (r < 1 || K_.cols() != r || A.rows() != np || A.cols() != r || B.rows() != np || B.cols() != np ||
+      !K_.allFinite() || !A.allFinite() || !B.allFinite())
+    throw std::invalid_argument("ModalInternalForce: coefficients must be finite, K (r x r), A (" + std::string("P x r") +
+                                ") and B (P x P) with P = r (r + 1) / 2; got K " + std::to_string(K_.rows()) + " x " +
+                                std::to_string(K_.cols()) + ", A " + std::to_string(A.rows()) + " x " +
+                                std::to_string(A.cols()) + ", B " + std::to_string(B.rows()) + " x " +
+                                std::to_string(B.cols()));
+  for (int i = 0; i < r; ++i)
+    for (int j = i; j < r; ++j) slots_.emplace_back(i, j);
+  A_ = std::move(A);
+  B_blocks_.push_back(0.5 * (B + B.transpose()));
+  index_slots();
+}
+
+void ModalInternalForce::index_slots() {
+  const int r = size();
+  slot_of_.assign(static_cast<std::size_t>(r) * r, -1);
+  for (std::size_t s = 0; s < slots_.size(); ++s) {
+    const auto [i, j] = slots_[s];
+    slot_of_[static_cast<std::size_t>(i) * r + j] = slot_of_[static_cast<std::size_t>(j) * r + i] = static_cast<int>(s);
+  }
+  block_of_.assign(slots_.size(), 0);
+  block_start_.clear();
+  int first = 0;
+  for (std::size_t b = 0; b < B_blocks_.size(); ++b) {
+    block_start_.push_back(first);
+    const int n = static_cast<int>(B_blocks_[b].rows());
+    std::fill(block_of_.begin() + first, block_of_.begin() + first + n, static_cast<int>(b));
+    first += n;
+  }
+}
+
+double ModalInternalForce::cubic(int i, int j, int k) const {
+  if (!green_) return 0.0;
+  return A_(slot_of_[static_cast<std::size_t>(i) * size() + j], k);
+}
+
+double ModalInternalForce::quartic(int i, int j, int k, int l) const {
+  if (!green_) return 0.0;
+  const int s = slot_of_[static_cast<std::size_t>(i) * size() + j];
+  const int t = slot_of_[static_cast<std::size_t>(k) * size() + l];
+  const int b = block_of_[s];
+  if (block_of_[t] != b) return 0.0;  // between two blocks B is exactly zero (constructor)
+  return B_blocks_[b](s - block_start_[b], t - block_start_[b]);
 }
 
 std::vector<int> ModalInternalForce::quartic_blocks() const {

@@ -22,6 +22,11 @@ class ModalInternalForce {
   /// Phi: (ndof x r) basis. green_strain: the nonlinear coefficients (once, O(r^4 n_gauss));
   /// otherwise f = K eta.
   ModalInternalForce(const ShellModel& model, const Eigen::MatrixXd& Phi, bool green_strain);
+  /// A quartic energy from its coefficients (e.g. a condensed one: fem/quadratic_manifold.hpp):
+  /// K (r x r, symmetric), A (P x r) and B (P x P, symmetric) on the pairs P = r (r + 1) / 2 in
+  /// the order (0, 0), (0, 1), ..., (0, r - 1), (1, 1), ...: A(p(i, j), k) = d^3 U / d eta_i d eta_j
+  /// d eta_k at 0, B(p(i, j), p(k, l)) the fourth derivative. std::invalid_argument on other sizes.
+  ModalInternalForce(Eigen::MatrixXd K, Eigen::MatrixXd A, Eigen::MatrixXd B);
 
   int size() const { return static_cast<int>(K_.rows()); }
   bool green_strain() const { return green_; }
@@ -29,6 +34,10 @@ class ModalInternalForce {
   std::vector<int> quartic_blocks() const;
   /// K = Phi^T K_L Phi, (r x r).
   const Eigen::MatrixXd& linear_stiffness() const { return K_; }
+  /// The coefficients d^3 U / d eta_i d eta_j d eta_k and d^4 U / d eta_i d eta_j d eta_k d eta_l at
+  /// eta = 0 (0 for linear strain).
+  double cubic(int i, int j, int k) const;
+  double quartic(int i, int j, int k, int l) const;
   /// A run's memo of the polynomial's last evaluation, A(eta) and B(eta) (Newton evaluates the
   /// residual and then, for a fresh matrix, the tangent at the same eta: one product, not two).
   /// Per-run data (multibody::Data): the model stays immutable, runs on it independent.
@@ -57,6 +66,10 @@ class ModalInternalForce {
   // basis vector is exactly bending or exactly in-plane (parity.hpp) and B has no entry between
   // the two, half the entries of one.
   std::vector<std::pair<int, int>> slots_;
+  std::vector<int> slot_of_;  // slot of the pair (i, j) at i r + j and j r + i
+  std::vector<int> block_of_;  // the B block of each slot, and the first slot of each block
+  std::vector<int> block_start_;
+  void index_slots();
   Eigen::MatrixXd A_;
   std::vector<Eigen::MatrixXd> B_blocks_;
 };

@@ -77,9 +77,7 @@ void forward_kinematics(const Model& m, Data& d, const Eigen::VectorXd& q, const
     if (a) s.a = a->segment(b.iv_el, b.n_el);
     else s.a.setZero(b.n_el);
     // In place: staging runs at every residual and matrix, and its vectors keep their sizes.
-    b.panel->full(s.q, s.d);
-    b.panel->full(s.v, s.dd);
-    b.panel->full(s.a, s.ddd);
+    b.panel->stage(s);
   }
   for (int k = 0; k < m.num_hinges(); ++k) {
     const Body& b = m.body(k);

@@ -14,11 +14,8 @@
 
 namespace deployfx::multibody {
 
-/// A panel's elastic state at the last evaluation.
-struct PanelState {
-  Eigen::VectorXd q, v, a;     ///< its elastic coordinates, rates, accelerations (n_el)
-  Eigen::VectorXd d, dd, ddd;  ///< the same on its inertia's dofs (FlexibleBody::full)
-};
+/// A panel's elastic state at the last evaluation (FlexibleBody::stage).
+using PanelState = body::ElasticState;
 
 class Data {
  public:

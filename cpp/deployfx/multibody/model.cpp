@@ -124,6 +124,11 @@ Model::Model(TreeSpec spec) : spec_(std::move(spec)) {
         loads.conservativeResize(f.rows(), loads.cols() + f.cols());
         loads.rightCols(f.cols()) = f;
       }
+    if (a.fidelity == Fidelity::kReducedManifold && !b.children.empty())
+      throw std::invalid_argument(name + ".fidelity = 'reduced-manifold' cannot carry hinges (hinge " +
+                                  std::to_string(b.children.front()) +
+                                  " rides on it): a hinge on a slaved panel is not supported; use "
+                                  "'reduced-nonlinear' for a panel that carries others");
     auto panel = std::make_shared<const body::FlexibleBody>(a, name, loads);
     if (panel->flexible()) {
       b.panel = std::move(panel);

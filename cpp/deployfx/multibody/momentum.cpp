@@ -141,8 +141,9 @@ Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd&
     for (std::size_t i = 0; i < b.attachment->cols.size(); ++i)
       J.col(parent.iv_el + b.attachment->cols[i]) += Jz.col(static_cast<Eigen::Index>(i));
   }
-  // Each panel's own coordinates: d(p, h)/d(eta', eta) = c_v (S1, H(d)) + c_q (w~ S1,
-  // -V~ S1 + d(J(d) w)/dd + d(H(d) d')/dd), carried to W.
+  // Each panel's own coordinates: d(p, h)/dd' = (S1, H(d)) and d(p, h)/dd = (w~ S1, -V~ S1 +
+  // d(J(d) w)/dd + d(H(d) d')/dd), carried to W, then to the elastic coordinates through the
+  // staging (FlexibleBody::chain).
   for (int k : m.panels()) {
     const Body& b = m.body(k);
     const body::FloatingFrameInertia& ffi = b.panel->inertia();
@@ -150,17 +151,17 @@ Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd&
     const BodyMotion<double>& C = d.motion.body[k];
     auto* memo = &d.panels[k].products;
     const auto& S1 = ffi.S1();
-    const Eigen::MatrixXd dp = c_v * S1 + c_q * skew(C.w) * S1;
-    const Eigen::MatrixXd dh = c_v * ffi.rotation_coupling(s.d, memo) +
-                               c_q * (-skew(C.V) * S1 + ffi.inertia_tensor_jacobian(s.d, C.w, memo) +
-                                      ffi.rotation_coupling_jacobian(s.dd, memo));
-    const Eigen::MatrixXd dP = C.R_WC * dp;
-    const Eigen::MatrixXd dH = skew(C.o_W) * dP + C.R_WC * dh;
-    const std::vector<int>& free = b.panel->free_dofs();
-    for (int i = 0; i < b.n_el; ++i) {
-      J.block<3, 1>(0, b.iv_el + i) += dP.col(free[i]);
-      J.block<3, 1>(3, b.iv_el + i) += dH.col(free[i]);
-    }
+    auto to_world = [&](const Eigen::MatrixXd& dp, const Eigen::MatrixXd& dh) {
+      Eigen::MatrixXd X(6, dp.cols());
+      X.topRows<3>() = C.R_WC * dp;
+      X.bottomRows<3>() = skew(C.o_W) * X.topRows<3>() + C.R_WC * dh;
+      return X;
+    };
+    const Eigen::MatrixXd X_dd = to_world(S1, ffi.rotation_coupling(s.d, memo));
+    const Eigen::MatrixXd X_d =
+        to_world(skew(C.w) * S1, -skew(C.V) * S1 + ffi.inertia_tensor_jacobian(s.d, C.w, memo) +
+                                     ffi.rotation_coupling_jacobian(s.dd, memo));
+    J.middleCols(b.iv_el, b.n_el) += b.panel->chain(s, 0.0, Eigen::MatrixXd(), c_v, X_dd, c_q, X_d);
   }
   return J;
 }

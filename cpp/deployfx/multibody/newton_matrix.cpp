@@ -12,18 +12,6 @@ namespace {
 
 using Matrix69 = Eigen::Matrix<double, 6, 9>;
 
-Eigen::MatrixXd free_rows(const Eigen::MatrixXd& X, const std::vector<int>& free) {
-  Eigen::MatrixXd out(static_cast<Eigen::Index>(free.size()), X.cols());
-  for (std::size_t i = 0; i < free.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = X.row(free[i]);
-  return out;
-}
-
-Eigen::MatrixXd free_cols(const Eigen::MatrixXd& X, const std::vector<int>& free) {
-  Eigen::MatrixXd out(X.rows(), static_cast<Eigen::Index>(free.size()));
-  for (std::size_t i = 0; i < free.size(); ++i) out.col(static_cast<Eigen::Index>(i)) = X.col(free[i]);
-  return out;
-}
-
 // The attachments a wrench at body j passes on its way to the base: j's and its ancestors'.
 std::vector<int> attachments_above(const Model& m, int j) {
   std::vector<int> out;
@@ -132,7 +120,7 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
   Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(ne, nc);
   for (int k : m.panels()) {
     const Body& b = m.body(k);
-    Y.middleRows(b.ie, b.n_el) = free_rows(fj[k].Q_k, b.panel->free_dofs()) * T9[k];
+    Y.middleRows(b.ie, b.n_el) = b.panel->projected(d.elastic[k], fj[k].Q_k) * T9[k];
   }
   for (int k = 0; k < N; ++k) {
     const Body& b = m.body(k);
@@ -180,8 +168,7 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
   for (int j : m.panels()) {
     const Body& b = m.body(j);
     const auto& F = fj[j];
-    const std::vector<int>& free = b.panel->free_dofs();
-    const Eigen::MatrixXd FMe = free_cols(c_a * F.FM_ddd + c_v * F.FM_dd + c_q * F.FM_d, free);
+    const Eigen::MatrixXd FMe = b.panel->chain(d.elastic[j], c_a, F.FM_ddd, c_v, F.FM_dd, c_q, F.FM_d);
     const std::vector<int> above = attachments_above(m, j);
     Eigen::Matrix<double, Eigen::Dynamic, 6> Lb = Eigen::MatrixXd::Zero(nb, 6);
     std::vector<Eigen::Matrix<double, 6, 6>> Lz(above.size());
@@ -207,21 +194,13 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
         for (int jj = 0; jj < b.n_el; ++jj) Ev(cp.slots_AR(i, first + jj)) += Mz(i, jj);
     }
 
-    // Elastic block: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) + G_w(w) + K_T) and damping, with
-    // G_y(x) = sum_i x_j M_ik - x_k M_ij (i, j, k cyclic) and G_w(w) = sum w_i w_l M_il - |w|^2 M_ii,
-    // summed as c_a L_c + sum_im c_im M_im over each M_im's own nonzeros (FlexibleBody::mass_combination).
+    // Elastic block: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) + G_w(w) + K_T) and damping
+    // (FlexibleBody::elastic_block).
     const BodyMotion<double>& C = d.motion.body[j];
-    const Eigen::Vector3d x = 2 * c_v * C.w + c_q * C.al;
-    Eigen::Matrix3d cm = c_q * (C.w * C.w.transpose() - C.w.squaredNorm() * Eigen::Matrix3d::Identity());
-    for (int i = 0; i < 3; ++i) {
-      const int jn = (i + 1) % 3, l = (i + 2) % 3;
-      cm(i, l) += x(jn);
-      cm(i, jn) -= x(l);
-    }
     // With the panel's block as the whole elastic block, its values are formed in S.E itself.
     const fem::FreeBlock& block = b.panel->block();
     Eigen::VectorXd own;
-    if (pattern.identity) {  // the pattern alone: mass_combination() writes every value
+    if (pattern.identity) {  // the pattern alone: elastic_block() writes every value
       const Eigen::SparseMatrix<double>& P = block.matrix();
       S.E.resize(P.rows(), P.cols());
       S.E.resizeNonZeros(P.nonZeros());
@@ -231,8 +210,7 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
       own.resize(block.nonzeros());
     }
     Eigen::Map<Eigen::VectorXd> vals(pattern.identity ? S.E.valuePtr() : own.data(), block.nonzeros());
-    b.panel->mass_combination(c_a, cm, vals);
-    b.panel->add_elastic_block(d.elastic[j].d, c_v, c_q, vals, &d.panels[j]);  // K_T (or K_L), damping
+    b.panel->elastic_block(d.elastic[j], F.f.Q, C.w, C.al, c_a, c_v, c_q, vals, &d.panels[j]);
     if (!pattern.identity) {
       const std::vector<int>& slots = pattern.body_slots[j];
       for (std::size_t i = 0; i < slots.size(); ++i) Ev(slots[i]) += vals(static_cast<Eigen::Index>(i));

@@ -51,7 +51,7 @@ Outputs outputs(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::
       PanelState& s = d.elastic[k];
       auto& ws = d.panels[k];
       o.kinetic += b.panel->inertia().kinetic_energy(C.V, C.w, s.d, s.dd, &ws.products);
-      o.strain_energy(k) = b.panel->strain_energy(s.q, s.d, &ws);
+      o.strain_energy(k) = b.panel->strain_energy(s, &ws);
       o.potential += o.strain_energy(k);
     }
   }

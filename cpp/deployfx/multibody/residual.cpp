@@ -33,10 +33,9 @@ Eigen::VectorXd residual(const Model& m, Data& d, const Eigen::VectorXd& q, cons
   }
   for (int k : m.panels()) {
     const Body& b = m.body(k);
-    const std::vector<int>& free = b.panel->free_dofs();
-    for (int i = 0; i < b.n_el; ++i) r(b.iv_el + i) += Q[k](free[i]);
-    PanelState& s = d.elastic[k];
-    b.panel->add_elastic_force(s.q, s.v, s.d, s.dd, r.segment(b.iv_el, b.n_el), &d.panels[k]);
+    const PanelState& s = d.elastic[k];
+    b.panel->add_projected(s, Q[k], r.segment(b.iv_el, b.n_el));
+    b.panel->add_elastic_force(s, r.segment(b.iv_el, b.n_el), &d.panels[k]);
   }
   return r;
 }
