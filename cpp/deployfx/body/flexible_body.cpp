@@ -198,8 +198,8 @@ void FlexibleBody::stage(ElasticState& s) const {
     full(s.a, s.ddd);
     return;
   }
-  manifold_->map(s.q, s.d);
   manifold_->jacobian(s.q, s.G);
+  manifold_->map(s.q, s.G, s.d);
   s.dd.noalias() = s.G * s.v;
   s.ddd.noalias() = s.G * s.a;
   manifold_->add_curvature(s.v, s.v, s.ddd);  // d'' = G q'' + C(q', q')
@@ -243,14 +243,27 @@ Eigen::MatrixXd FlexibleBody::chain(const ElasticState& s, double c_a, const Eig
   }
   // dd = G(q) q', ddd = G(q) q'' + C(q', q'): d(dd)/dq = C(q', .), d(ddd)/dq = C(q'', .),
   // d(ddd)/dq' = 2 C(q', .).
+  const Eigen::MatrixXd W_v = with_a ? Eigen::MatrixXd(c_q * X_dd + 2 * c_v * X_ddd) : Eigen::MatrixXd(c_q * X_dd);
+  return manifold_chain(s, X, W_v, with_a && c_q != 0.0 ? Eigen::MatrixXd(c_q * X_ddd) : Eigen::MatrixXd());
+}
+
+Eigen::MatrixXd FlexibleBody::manifold_chain(const ElasticState& s, const Eigen::MatrixXd& X, const Eigen::MatrixXd& W_v,
+                                             const Eigen::MatrixXd& W_a) const {
   Eigen::MatrixXd out = X * s.G, Cx;
   manifold_->derivative(s.v, Cx);
-  out.noalias() += (with_a ? Eigen::MatrixXd(c_q * X_dd + 2 * c_v * X_ddd) : Eigen::MatrixXd(c_q * X_dd)) * Cx;
-  if (with_a && c_q != 0.0) {
+  out.noalias() += W_v * Cx;
+  if (W_a.cols() > 0) {
     manifold_->derivative(s.a, Cx);
-    out.noalias() += c_q * X_ddd * Cx;
+    out.noalias() += W_a * Cx;
   }
   return out;
+}
+
+Eigen::MatrixXd FlexibleBody::inertia_combination(double c_L, const Eigen::Matrix3d& cm) const {
+  Eigen::MatrixXd X = c_L * L_eta_;
+  for (int im = 0; im < 9; ++im)
+    if (cm(im / 3, im % 3) != 0.0) X += cm(im / 3, im % 3) * Mij_eta_[im];
+  return X;
 }
 
 Eigen::MatrixXd FlexibleBody::mesh_rows(const std::vector<int>& mesh_dofs) const {
@@ -313,27 +326,24 @@ void FlexibleBody::elastic_block(const ElasticState& s, const Eigen::VectorXd& Q
                                  const Eigen::Vector3d& al, double c_a, double c_v, double c_q,
                                  Eigen::Ref<Eigen::VectorXd> vals, Workspace* ws) const {
   if (manifold_) {
-    manifold_block(s, Q, mass_coefficients(w, al, 1, 0), mass_coefficients(w, al, 0, 1), c_a, c_v, c_q, vals, ws);
+    manifold_block(s, Q, w, al, c_a, c_v, c_q, vals, ws);
     return;
   }
   mass_combination(c_a, mass_coefficients(w, al, c_v, c_q), vals);
   add_elastic_block(s.d, c_v, c_q, vals, ws);  // K_T (or K_L), damping
 }
 
-void FlexibleBody::manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Matrix3d& cm_v,
-                                  const Eigen::Matrix3d& cm_q, double c_a, double c_v, double c_q,
+void FlexibleBody::manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Vector3d& w,
+                                  const Eigen::Vector3d& al, double c_a, double c_v, double c_q,
                                   Eigen::Ref<Eigen::VectorXd> vals, Workspace* ws) const {
-  // On eta: dQ/d eta'' = L_c, dQ/d eta' = 2 G_y(w) + alpha_M L_c (the damping), dQ/d eta =
-  // G_y(al) + G_w(w). On q, by the staging's chain rule (chain()) and G^T's own derivative,
-  // sum_k (Q + alpha_M L_c eta')_k d^2 g_k / dq^2.
-  auto combination = [&](double c_L, const Eigen::Matrix3d& cm) {
-    Eigen::MatrixXd X = c_L * L_eta_;
-    for (int im = 0; im < 9; ++im)
-      if (cm(im / 3, im % 3) != 0.0) X += cm(im / 3, im % 3) * Mij_eta_[im];
-    return X;
-  };
-  const Eigen::MatrixXd D_v = combination(spec_.alpha_M, cm_v), D_q = combination(0.0, cm_q);
-  Eigen::MatrixXd E = projected(s, chain(s, c_a, L_eta_, c_v, D_v, c_q, D_q));
+  // On eta: dQ/d eta'' = L_c, dQ/d eta' = D_v = 2 G_y(w) + alpha_M L_c (the damping), dQ/d eta =
+  // D_q = G_y(al) + G_w(w). On q, the staging's chain rule (chain()) with
+  // X = c_a L_c + c_v D_v + c_q D_q, W_v = c_q D_v + 2 c_v L_c and W_a = c_q L_c, each one
+  // combination of the M_ij; and G^T's own derivative, sum_k (Q + alpha_M L_c eta')_k d^2 g_k / dq^2.
+  const double alpha = spec_.alpha_M;
+  const Eigen::MatrixXd X = inertia_combination(c_a + c_v * alpha, mass_coefficients(w, al, c_v, c_q));
+  const Eigen::MatrixXd W_v = inertia_combination(2 * c_v + c_q * alpha, mass_coefficients(w, al, c_q, 0.0));
+  Eigen::MatrixXd E = projected(s, manifold_chain(s, X, W_v, c_q != 0.0 ? Eigen::MatrixXd(c_q * L_eta_) : Eigen::MatrixXd()));
   if (c_q != 0.0) E += c_q * manifold_->contract(Q + spec_.alpha_M * (L_eta_ * s.dd));
   vals = Eigen::Map<const Eigen::VectorXd>(E.data(), E.size());  // every value (elastic_block())
   add_elastic_block(s.q, c_v, c_q, vals, ws);  // the quartic's tangent; beta_K's damping

@@ -175,9 +175,14 @@ class FlexibleBody {
   // Adds c_q d/dq + c_v d/dv of the elastic force to vals (the manifold's alpha_M term excepted).
   void add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
                          Workspace* ws) const;
-  void manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Matrix3d& cm_v,
-                      const Eigen::Matrix3d& cm_q, double c_a, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
+  void manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Vector3d& w,
+                      const Eigen::Vector3d& al, double c_a, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
                       Workspace* ws) const;
+  // The manifold's chain rule (chain()): X G + W_v C(v, .) + W_a C(a, .) (W_a may have no columns).
+  Eigen::MatrixXd manifold_chain(const ElasticState& s, const Eigen::MatrixXd& X, const Eigen::MatrixXd& W_v,
+                                 const Eigen::MatrixXd& W_a) const;
+  // c_L L_c + sum_ij cm(i, j) M_ij on eta (manifold).
+  Eigen::MatrixXd inertia_combination(double c_L, const Eigen::Matrix3d& cm) const;
   std::vector<int> free_;
   std::vector<int> in_plane_;  // in_plane_coordinates()
   Eigen::SparseMatrix<double> K_free_, M_free_;

@@ -68,12 +68,12 @@ QuadraticManifold::QuadraticManifold(const ModalInternalForce& force, const std:
     W_ = llt.solve(Eigen::MatrixXd::Identity(nm, nm));
   }
   // C_k = -sum_n W_kn A_n,bb (header).
-  C_.assign(static_cast<std::size_t>(nm), Eigen::MatrixXd::Zero(nb, nb));
+  C_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(nm) * nb, nb);
   for (int n = 0; n < nm; ++n) {
     Eigen::MatrixXd An(nb, nb);
     for (int i = 0; i < nb; ++i)
       for (int j = 0; j < nb; ++j) An(i, j) = force.cubic(in_plane_[n], bending_[i], bending_[j]);
-    for (int k = 0; k < nm; ++k) C_[k] -= W_(k, n) * An;
+    for (int k = 0; k < nm; ++k) C_.middleRows(static_cast<Eigen::Index>(k) * nb, nb) -= W_(k, n) * An;
   }
 }
 
@@ -82,14 +82,23 @@ ModalInternalForce QuadraticManifold::condensed_force(const ModalInternalForce& 
 }
 
 void QuadraticManifold::map(const Eigen::VectorXd& q, Eigen::VectorXd& eta) const {
-  eta.setZero(num_dofs_);
+  Eigen::MatrixXd G;
+  jacobian(q, G);
+  map(q, G, eta);
+}
+
+void QuadraticManifold::map(const Eigen::VectorXd& q, const Eigen::MatrixXd& G, Eigen::VectorXd& eta) const {
+  eta.resize(num_dofs_);
   for (int i = 0; i < num_coordinates(); ++i) eta(bending_[i]) = q(i);
-  for (std::size_t k = 0; k < C_.size(); ++k) eta(in_plane_[k]) = 0.5 * q.dot(C_[k] * q);
+  for (const int k : in_plane_) eta(k) = 0.5 * G.row(k).dot(q);
 }
 
 void QuadraticManifold::derivative(const Eigen::VectorXd& y, Eigen::MatrixXd& X) const {
-  X.setZero(num_dofs_, num_coordinates());
-  for (std::size_t k = 0; k < C_.size(); ++k) X.row(in_plane_[k]).noalias() = (C_[k] * y).transpose();
+  const int nb = num_coordinates();
+  const Eigen::VectorXd Cy = C_ * y;  // every C_k y at once
+  X.setZero(num_dofs_, nb);
+  for (std::size_t k = 0; k < in_plane_.size(); ++k)
+    X.row(in_plane_[k]) = Cy.segment(static_cast<Eigen::Index>(k) * nb, nb).transpose();
 }
 
 void QuadraticManifold::jacobian(const Eigen::VectorXd& q, Eigen::MatrixXd& G) const {
@@ -98,12 +107,17 @@ void QuadraticManifold::jacobian(const Eigen::VectorXd& q, Eigen::MatrixXd& G) c
 }
 
 void QuadraticManifold::add_curvature(const Eigen::VectorXd& x, const Eigen::VectorXd& y, Eigen::VectorXd& out) const {
-  for (std::size_t k = 0; k < C_.size(); ++k) out(in_plane_[k]) += x.dot(C_[k] * y);
+  const int nb = num_coordinates();
+  const Eigen::VectorXd Cy = C_ * y;
+  for (std::size_t k = 0; k < in_plane_.size(); ++k)
+    out(in_plane_[k]) += x.dot(Cy.segment(static_cast<Eigen::Index>(k) * nb, nb));
 }
 
 Eigen::MatrixXd QuadraticManifold::contract(const Eigen::VectorXd& f) const {
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(num_coordinates(), num_coordinates());
-  for (std::size_t k = 0; k < C_.size(); ++k) out += f(in_plane_[k]) * C_[k];
+  const int nb = num_coordinates();
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(nb, nb);
+  for (std::size_t k = 0; k < in_plane_.size(); ++k)
+    out += f(in_plane_[k]) * C_.middleRows(static_cast<Eigen::Index>(k) * nb, nb);
   return out;
 }
 

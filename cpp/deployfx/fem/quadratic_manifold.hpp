@@ -39,6 +39,8 @@ class QuadraticManifold {
 
   /// eta = g(q) into `eta` (size num_dofs()).
   void map(const Eigen::VectorXd& q, Eigen::VectorXd& eta) const;
+  /// The same from G = jacobian(q): eta_m,k = G_k q / 2 (C(q, q) / 2 with C(q, .) = G's in-plane rows).
+  void map(const Eigen::VectorXd& q, const Eigen::MatrixXd& G, Eigen::VectorXd& eta) const;
   /// X = d/dx C(x, y) at y: (num_dofs() x num_coordinates()), zero on the bending rows; G = dg/dq
   /// is the bending rows' identity plus C_dy(q).
   void derivative(const Eigen::VectorXd& y, Eigen::MatrixXd& X) const;
@@ -53,7 +55,7 @@ class QuadraticManifold {
  private:
   std::vector<int> bending_, in_plane_;
   int num_dofs_ = 0;
-  std::vector<Eigen::MatrixXd> C_;  // per in-plane coordinate, (n_q x n_q) symmetric
+  Eigen::MatrixXd C_;  // C_k stacked, (n_m n_q x n_q): rows k n_q .. (k + 1) n_q - 1 the symmetric C_k
   Eigen::MatrixXd W_;               // K_mm^-1
 };
 
