@@ -432,10 +432,14 @@ class Model:
 
     def _stressed_panels(self) -> list:
         """The hinges whose deforming panel has strengths; ValueError if there is none."""
+        from . import stress
+
         out = [k for k, L in enumerate(self.links) if self.deforming[k] and L.appendage.strengths is not None]
         if not out:
             raise ValueError("stresses=True needs a deforming panel with strengths: Scene.set_appendage(..., "
                              "strengths=deployfx.Strengths(...)) (deployfx ships no allowables)")
+        for k in out:  # a fidelity without a strain measure is refused before the run, not after it
+            stress.strain_measure(self.links[k].appendage.fidelity.value)
         return out
 
     def _envelope(self, t, q, k: int, lock_force, **options):
