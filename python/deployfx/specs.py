@@ -37,10 +37,11 @@ class Fidelity(str, enum.Enum):
     without the in-plane vectors' own quadratic strains; docs/research/quadratic-manifold.md,
     section 3). The mesh moves by ``basis @ eta`` (:meth:`deployfx.Model.panel_coordinates`).
     Only for a flat panel with a mirror-symmetric laminate, whose basis splits into bending and
-    in-plane vectors, and that carries no hinge (ValueError otherwise). It loses the centrifugal stiffening of a fast spin (the
-    membrane stretch is then an inertial load, not a function of the bending): spun above its
-    first bending frequency it would diverge like ``LINEAR`` (inferred from its tangents,
-    section 4 there)."""
+    in-plane vectors, and that carries no hinge (ValueError otherwise). It loses the
+    centrifugal stiffening of a fast spin (the membrane stretch is then an inertial load, not a
+    function of the bending): spun above its first bending frequency it would diverge like
+    ``LINEAR`` (inferred from its tangents, section 4 there). No ply stresses yet
+    (:func:`deployfx.stress.strain_measure`)."""
 
     RIGID = "rigid"
     LINEAR = "linear"
