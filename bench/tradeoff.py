@@ -5,8 +5,9 @@ generalized-alpha rho_inf = 0.8) with :func:`deployfx.tradeoff`, all in one proc
 
 - fidelity: rigid, reduced-nonlinear with 5/10/20 modes (and 10 on session 17's basis, the
   modal derivatives of every pair among the first 6 modes and no partners, ``derivative_modes=6,
-  derivative_partners=0``: 36 vectors against the default's 30), reduced-linear with 10, linear,
-  nonlinear;
+  derivative_partners=0``: 36 vectors against the default's 30), reduced-manifold with 10 (the
+  same 30-vector basis, its in-plane coordinates slaved to the bending ones), reduced-linear with
+  10, linear, nonlinear;
 - mesh (``--meshes``, capped by ``--max-mesh``): nonlinear and reduced-nonlinear (10 modes);
 - dt (``--dts``): rigid, reduced-nonlinear (10), nonlinear;
 - integrator: generalized-alpha rho_inf = 0.8, HHT alpha = -0.05, Newmark (average
@@ -107,6 +108,7 @@ def build_cases(sweeps, base_mesh: str, base_dt: float, meshes, dts, tolerance: 
         cases += [Case("rigid", **base)]
         cases += [Case(RN, modes=k, **base) for k in (5, 10, 20)]
         cases += [Case(RN, modes=10, derivative_modes=6, derivative_partners=0, **base)]  # session 17's 36
+        cases += [Case("reduced-manifold", modes=10, **base)]
         cases += [Case("reduced-linear", modes=10, **base), Case("linear", **base),
                   Case("nonlinear", **base)]
     if "mesh" in sweeps:

@@ -3,8 +3,9 @@ displacement map for chosen nodes, taken once per model or scene (Model.node_dis
 ``nodes`` series of a run, the scenes' node series)."""
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
-from typing import Mapping, Optional, Sequence
+from typing import Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
@@ -12,17 +13,23 @@ import numpy as np
 @dataclass(frozen=True)
 class NodeTranslations:
     """Translations (m, (n, count, 3), C_k axes) of ``count`` nodes of a panel at each recorded
-    ``q``: ``rows`` (3 count x num_elastic) of its displacement map times its elastic coordinates
-    (q's columns from ``start``); zeros for a panel that does not deform (``rows`` None)."""
+    ``q``: ``rows`` (3 count x r) of its displacement map times its panel coordinates, which are
+    its ``width`` elastic coordinates (q's columns from ``start``) or, where the fidelity slaves
+    some (the quadratic manifold), ``lift`` of them (Model.panel_coordinates; None: no call);
+    zeros for a panel that does not deform (``rows`` None)."""
 
     count: int
     rows: Optional[np.ndarray]
     start: int
+    width: int = 0
+    lift: Optional[Callable[[np.ndarray], np.ndarray]] = None
 
     def __call__(self, q: np.ndarray) -> np.ndarray:
         if self.rows is None:
             return np.zeros((len(q), self.count, 3))
-        eta = q[:, self.start:self.start + self.rows.shape[1]]
+        eta = q[:, self.start:self.start + self.width]
+        if self.lift is not None:
+            eta = self.lift(eta)
         return (eta @ self.rows.T).reshape(len(q), self.count, 3)
 
 
@@ -42,7 +49,8 @@ def node_translations(model, hinge: Optional[int] = None,
     rows = (6 * idx[:, None] + np.arange(3)[None]).ravel()
     D = model.core.displacement_map(k)[rows]
     D.flags.writeable = False
-    return NodeTranslations(idx.size, D, lay["iq_elastic"])
+    lift = functools.partial(model._lift, k) if model.fidelities[k].slaved else None
+    return NodeTranslations(idx.size, D, lay["iq_elastic"], lay["num_elastic"], lift)
 
 
 def node_sets(model, nodes) -> dict:

@@ -4,7 +4,9 @@
   deployment and locking of You et al. (2016); writes ``summary.json`` (the summary's metrics and
   the run's ``settings``: Result.settings and the command), ``timeseries.csv`` (one per model)
   and the paper's figures; ``--model both`` overlays linear and nonlinear; ``--json`` prints the
-  summary; ``--model reduced-nonlinear --modes 10`` runs a reduced appendage.
+  summary; ``--model reduced-nonlinear --modes 10`` runs a reduced appendage,
+  ``--model reduced-manifold`` the same basis with its in-plane coordinates slaved to the bending
+  ones (deployfx.specs.Fidelity).
 - ``deployfx run spin-up-beam --omega-s 4``: the spin-up beam of Kane, Ryan & Banerjee (1987).
 - ``deployfx run SCENE.toml``: a scene file (deployfx.save_scene, TOML or JSON).
 - ``deployfx appendage``: modes of the paper's laminated appendage.
@@ -299,7 +301,8 @@ def build_parser() -> argparse.ArgumentParser:
                        description=_RUN_DESCRIPTION)
     r.add_argument("scene", help="paper2016, spin-up-beam, or a scene file (.toml or .json, "
                                  "deployfx.save_scene)")
-    r.add_argument("--model", choices=("rigid", "linear", "nonlinear", "reduced-linear", "reduced-nonlinear", "both"),
+    r.add_argument("--model", choices=("rigid", "linear", "nonlinear", "reduced-linear", "reduced-nonlinear",
+                                       "reduced-manifold", "both"),
                    default=_SCENE_OPTIONS["model"],
                    help="appendage fidelity; both = linear and nonlinear overlaid (spin-up-beam: linear or nonlinear)")
     r.add_argument("--modes", type=int, default=_SCENE_OPTIONS["modes"],

@@ -75,14 +75,20 @@ class Modes:
     def mesh_shapes(self, hinge: Optional[int] = None) -> np.ndarray:
         """Hinge ``hinge``'s panel: each mode's elastic mesh displacements (n, 6 nodes), real part
         (m and rad per unit shape, the panel frame C_k's axes; zeros for a rigid panel), ready for
-        drawing or export (e.g. as point data of its ShellModel's quads)."""
-        k = self.model._hinge(hinge, panel=True)
-        lay = self.model.core.layout(k)
+        drawing or export (e.g. as point data of its ShellModel's quads). A shape s of the
+        elastic coordinates moves the mesh by D G s: D the displacement map, G the
+        :meth:`~deployfx.Model.panel_tangent` at the state linearised about (the identity unless
+        the panel is on the quadratic manifold)."""
+        m = self.model
+        k = m._hinge(hinge, panel=True)
+        lay = m.core.layout(k)
         n_el = lay["num_elastic"]
         if n_el == 0:
-            return np.zeros((len(self), self.model.shells[k].num_dofs))
-        eta = self.shapes[lay["iv_elastic"]:lay["iv_elastic"] + n_el].real
-        return (self.model.core.displacement_map(k) @ eta).T
+            return np.zeros((len(self), m.shells[k].num_dofs))
+        s = self.shapes[lay["iv_elastic"]:lay["iv_elastic"] + n_el].real
+        if m.fidelities[k].slaved:
+            s = m.panel_tangent(self.q, k) @ s
+        return (m.core.displacement_map(k) @ s).T
 
     def world_shapes(self, hinge: Optional[int] = None) -> np.ndarray:
         """Hinge ``hinge``'s panel nodes' motion in W per unit shape, (n, nodes, 3), real part: the

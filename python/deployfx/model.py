@@ -10,7 +10,8 @@ may simulate one Model at once and get the same bits as serial runs.
 Coordinates (``q``, ``v``): a free base's position r_W (m) and unit quaternion (w, x, y, z) of
 R_WB (velocities v_W in W axes, w_B in B axes), the undriven hinges' angles (rad: the travel from
 stowed) in hinge order, then each deforming panel's elastic coordinates in hinge order (its free
-mesh dofs, m and rad, or its Ritz coordinates, kg^0.5 m): ``Model.layout(k)`` says where.
+mesh dofs, m and rad, or its Ritz coordinates, kg^0.5 m; on the quadratic manifold its bending
+Ritz coordinates, ``Model.panel_coordinates`` giving all of them): ``Model.layout(k)`` says where.
 """
 from __future__ import annotations
 
@@ -140,7 +141,9 @@ class Model:
 
     def basis(self, hinge: Optional[int] = None) -> Optional[np.ndarray]:
         """A reduced panel's Ritz basis, mesh dofs = ``basis @ eta`` ((6 nodes x r), M-orthonormal:
-        eta in kg^0.5 m); None for any other body."""
+        eta in kg^0.5 m), eta its panel coordinates (:meth:`panel_coordinates`: its elastic
+        coordinates, or on the quadratic manifold the r Ritz coordinates g(q) its bending ones
+        give); None for any other body."""
         k = self._hinge(hinge, panel=True)
         return self.core.displacement_map(k) if self.fidelities[k].reduced else None
 
@@ -157,17 +160,54 @@ class Model:
                              f"(was it recorded by another model?)")
         return q
 
+    def _elastic(self, q: np.ndarray, k: int) -> np.ndarray:
+        """Hinge k's elastic coordinates: columns of the checked (n, num_positions) ``q``."""
+        lay = self.core.layout(k)
+        return q[:, lay["iq_elastic"]:lay["iq_elastic"] + lay["num_elastic"]]
+
+    def _lift(self, k: int, q_el: np.ndarray) -> np.ndarray:
+        """Hinge k's panel coordinates from its elastic ones ``q_el`` (n, num_elastic): the one
+        place they are turned into each other (:meth:`panel_coordinates`, the node series of
+        _node_rows). The elastic coordinates themselves unless the fidelity slaves some
+        (``Fidelity.slaved``: the engine's eta = g(q))."""
+        if not self.fidelities[k].slaved:
+            return q_el
+        if not len(q_el):
+            return np.zeros((0, self.core.displacement_map(k).shape[1]))
+        return self.core.panel_coordinates(k, np.ascontiguousarray(q_el))
+
+    def panel_coordinates(self, q, hinge: Optional[int] = None) -> np.ndarray:
+        """Hinge ``hinge``'s panel coordinates at each recorded ``q``, (n, r): those its mesh moves
+        by, mesh dofs = ``panel_coordinates(q) @ D.T`` with D its displacement map (a reduced
+        panel's :meth:`basis`, the selection of a full panel's free dofs;
+        :meth:`mesh_displacements`). They are its elastic coordinates, except on the quadratic
+        manifold (``reduced-manifold``): there the basis's r Ritz coordinates eta = g(q_b) of its
+        bending coordinates q_b (:class:`~deployfx.specs.Fidelity`); (n, 0) for a rigid panel."""
+        k = self._hinge(hinge, panel=True)
+        return self._lift(k, self._elastic(self._q(q), k))
+
+    def panel_tangent(self, q, hinge: Optional[int] = None) -> np.ndarray:
+        """The derivative of :meth:`panel_coordinates` by the elastic coordinates at one ``q``
+        (num_positions,): G = d eta / d q_el, (r x num_elastic), the identity unless the panel is
+        on the quadratic manifold. An elastic velocity or mode shape s moves the mesh by
+        ``D @ G @ s``."""
+        k = self._hinge(hinge, panel=True)
+        q_el = self._elastic(self._q(q), k)
+        if len(q_el) != 1:
+            raise ValueError(f"q must be one sample ({self.num_positions} coordinates), got {len(q_el)}")
+        if not self.fidelities[k].slaved:
+            return np.eye(q_el.shape[1])
+        return np.asarray(self.core.panel_tangent(k, np.ascontiguousarray(q_el[0])))
+
     def mesh_displacements(self, q, hinge: Optional[int] = None) -> np.ndarray:
         """Hinge ``hinge``'s panel: every mesh dof's displacement (m, rad; 6 per node, C_k axes)
-        at each recorded ``q``, shape (n, 6 nodes); zeros for a rigid panel."""
+        at each recorded ``q``, shape (n, 6 nodes): its :meth:`panel_coordinates` through its
+        displacement map; zeros for a rigid panel."""
         k = self._hinge(hinge, panel=True)
         q = self._q(q)
-        lay = self.core.layout(k)
-        n = lay["num_elastic"]
-        ndof = self.shells[k].num_dofs
-        if n == 0:
-            return np.zeros((len(q), ndof))
-        return q[:, lay["iq_elastic"]:lay["iq_elastic"] + n] @ self.core.displacement_map(k).T
+        if self.core.layout(k)["num_elastic"] == 0:
+            return np.zeros((len(q), self.shells[k].num_dofs))
+        return self._lift(k, self._elastic(q, k)) @ self.core.displacement_map(k).T
 
     def node_displacements(self, q, hinge: Optional[int] = None, nodes: Optional[Sequence[int]] = None) -> np.ndarray:
         """Node translations (m, C_k axes) of hinge ``hinge``'s panel at each recorded ``q``,
@@ -392,10 +432,14 @@ class Model:
 
     def _stressed_panels(self) -> list:
         """The hinges whose deforming panel has strengths; ValueError if there is none."""
+        from . import stress
+
         out = [k for k, L in enumerate(self.links) if self.deforming[k] and L.appendage.strengths is not None]
         if not out:
             raise ValueError("stresses=True needs a deforming panel with strengths: Scene.set_appendage(..., "
                              "strengths=deployfx.Strengths(...)) (deployfx ships no allowables)")
+        for k in out:  # a fidelity without a strain measure is refused before the run, not after it
+            stress.strain_measure(self.links[k].appendage.fidelity.value)
         return out
 
     def _envelope(self, t, q, k: int, lock_force, **options):
@@ -446,7 +490,8 @@ class Model:
             b = self.core.basis_info(k)
             if b is not None:
                 info.update(modes=b["modes"], static_corrections=b["static_corrections"],
-                            modal_derivatives=b["modal_derivatives"], basis_size=b["size"])
+                            modal_derivatives=b["modal_derivatives"], basis_size=b["size"],
+                            elastic_coordinates=int(lay["num_elastic"]))  # < basis_size on a manifold
             out.append(info)
         return tuple(out)
 

@@ -6,8 +6,9 @@ The periods (:func:`periods`), estimated at the stowed configuration:
   angles with every panel held undeformed (the model's mass and stiffness matrices restricted to
   those coordinates; the paper's scene: 9.9 s, the spring-panel oscillator);
 - each deforming panel's clamped vibration modes up to the number its fidelity keeps: a reduced
-  panel the ``modes`` of its Ritz basis (their Ritz values), a full finite-element panel the same
-  count of its lowest clamped modes (``Scene.set_appendage(..., modes=)``, default 10), so that a
+  panel the ``modes`` of its Ritz basis (their Ritz values; on the quadratic manifold those that
+  are its bending coordinates, the in-plane ones following them), a full finite-element panel
+  the same count of its lowest clamped modes (``Scene.set_appendage(..., modes=)``, default 10), so that a
   scene asks the same of the step at either fidelity. Higher modes of a full panel (thin-plate
   rotations, drilling) are left to the scheme's numerical damping, which is how the engine
   treats them.
@@ -87,6 +88,10 @@ def _panel_periods(m) -> list[dict]:
         if a.fidelity.reduced:
             info = m.basis_info(k)
             n = int(info["modes"])
+            if a.fidelity.slaved:  # only the modes that are elastic coordinates (bending) move freely
+                n = _highest_free_mode(m, k, n)
+                if n == 0:
+                    continue
             w2 = float(np.asarray(info["omega2"])[n - 1])  # the modes keep their own Ritz values
             what = f"hinge {k}'s panel, mode {n} of its reduced basis"
         else:
@@ -99,6 +104,16 @@ def _panel_periods(m) -> list[dict]:
             T = 2 * math.pi / math.sqrt(w2)
             out.append({"what": f"{what} ({1 / T:.4g} Hz)", "hinge": k, "period_s": T, "steps": STEPS_PER_PERIOD})
     return out
+
+
+def _highest_free_mode(m, k: int, n: int) -> int:
+    """The last of the first ``n`` basis vectors of hinge k's panel that is one of its elastic
+    coordinates (1-based; 0: none), where the fidelity slaves the others to them: at the
+    undeformed panel the map's tangent G (Model.panel_tangent) has a nonzero row exactly for
+    those (on the quadratic manifold g(q) = [q; C(q, q)/2], so G(0) = [I; 0])."""
+    G0 = m.panel_tangent(m.initial_positions(), k)
+    free = np.flatnonzero(np.abs(G0[:n]).max(axis=1) > 0)
+    return int(free[-1]) + 1 if free.size else 0
 
 
 def periods(model: Any) -> list[dict]:

@@ -36,7 +36,8 @@ node displacements adds ``node_displacements_<k>`` (m, (n, nodes, 3)).
 
 Metadata is a JSON-compatible dict. Keys the engine writes: the scene's description (a ready
 scene's ``scene`` name and ``parameters``), ``hinges`` (per hinge: parent, fidelity, lock,
-lock_play_deg, driven, spin_up, stowed_angle_deg, mesh, basis), ``base_free``, ``dt`` (s),
+lock_play_deg, driven, spin_up, stowed_angle_deg, mesh, a reduced panel's basis and its
+elastic coordinates), ``base_free``, ``dt`` (s),
 ``t_end`` (s), ``integrator``, ``tolerance``, ``deployfx_version``, ``run_started_utc``,
 ``wall_time_s``, the step counts and, when a run stopped early, ``failure``;
 :meth:`Result.settings` gathers the ones that say how the run was made.

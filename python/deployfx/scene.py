@@ -177,7 +177,10 @@ class Scene:
         ``derivative_partners`` modes with every mode and with the static corrections (None: 1;
         a mode bent together with one whose derivatives with it are missing stiffens spuriously,
         docs/research/undamped-stability.md), with the exact polynomial internal force in that
-        basis (docs/engine-design.md). Any fidelity on any body of a tree.
+        basis (docs/engine-design.md); or "reduced-manifold", that basis with its in-plane Ritz
+        coordinates slaved to the bending ones on a quadratic manifold (a flat panel with a
+        mirror-symmetric laminate, carrying no hinge; :class:`~deployfx.specs.Fidelity`). Any
+        other fidelity on any body of a tree.
         ``damping = (alpha_M, beta_K)``: structural Rayleigh damping C = alpha_M M + beta_K K
         (1/s, s), a modal damping ratio (alpha_M / omega + beta_K omega) / 2.
         ``strengths``: the plies' allowables (:class:`~deployfx.Strengths`, one for all plies or

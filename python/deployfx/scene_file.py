@@ -43,7 +43,8 @@ Optional parts are simply left out (TOML has no null)::
     mass_kg, inertia_kg_m2, com_m        #   rigid parts on this hinge's body, in C_k (a yoke)
 
     [hinges.appendage]                   # optional: Scene.set_appendage(hinge=k)
-    fidelity = "linear"                  # "rigid", "linear", "nonlinear", "reduced-linear", ...
+    fidelity = "linear"                  # "rigid", "linear", "nonlinear", "reduced-linear",
+                                         #   "reduced-nonlinear" or "reduced-manifold"
     fixed_dofs = [...]                   # dof indices (6 per node) clamped to C_k
     alpha_M_per_s, beta_K_s              # Rayleigh damping
     modes = 10                           # reduced fidelities: clamped modes kept

@@ -191,8 +191,9 @@ class Paper2016Scene:
 
 def paper2016(layup: int = 2, model: str = "nonlinear", **overrides) -> Paper2016Scene:
     """You et al. (2016): lay-up 1 ([0/0/0/0]) or 2 ([0/90/90/0]); model (a
-    :class:`~deployfx.specs.Fidelity`) "rigid", "linear", "nonlinear", "reduced-linear" or
-    "reduced-nonlinear" (with ``modes=k``); ``wings=2`` adds the mirrored second wing; any field
+    :class:`~deployfx.specs.Fidelity`) "rigid", "linear", "nonlinear", "reduced-linear",
+    "reduced-nonlinear" or "reduced-manifold" (the reduced ones with ``modes=k``; the panel is flat
+    and both lay-ups symmetric, as the manifold needs); ``wings=2`` adds the mirrored second wing; any field
     of :class:`Paper2016Parameters` may be overridden by keyword."""
     names = {f.name for f in dataclasses.fields(Paper2016Parameters)}
     unknown = sorted(set(overrides) - names)

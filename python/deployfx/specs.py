@@ -24,15 +24,31 @@ __all__ = ["Fidelity", "RigidPart", "rigid_appendage", "Base", "SpinUp", "Hinge"
 
 class Fidelity(str, enum.Enum):
     """A panel's model: one rigid body; finite elements with linear strain or Green strain (You
-    et al. 2016, Eq. 14); or these two reduced to a Ritz basis of a few modes
-    (docs/engine-design.md, "Fidelity"). A str: ``Fidelity.NONLINEAR == "nonlinear"``, and every
-    function that takes a fidelity takes its string too."""
+    et al. 2016, Eq. 14); these two reduced to a Ritz basis of a few modes
+    (docs/engine-design.md, "Fidelity"); or the nonlinear one on a quadratic manifold of that
+    basis, ``REDUCED_MANIFOLD`` (below). A str: ``Fidelity.NONLINEAR == "nonlinear"``, and every
+    function that takes a fidelity takes its string too.
+
+    ``REDUCED_MANIFOLD`` ("reduced-manifold"): the reduced-nonlinear basis (same ``modes``,
+    ``derivative_modes``, ``derivative_partners``), whose elastic coordinates are only its bending
+    Ritz coordinates q; the in-plane ones are slaved to them by the quadratic manifold of Jain,
+    Tiso, Rutzmoser & Rixen (2017), ``eta = g(q) = [q; C(q, q)/2]``, C the Galerkin tensor of the
+    basis, with the elastic energy that map condenses exactly (a quartic in q: Green strain
+    without the in-plane vectors' own quadratic strains; docs/research/quadratic-manifold.md,
+    section 3). The mesh moves by ``basis @ eta`` (:meth:`deployfx.Model.panel_coordinates`).
+    Only for a flat panel with a mirror-symmetric laminate, whose basis splits into bending and
+    in-plane vectors, and that carries no hinge (ValueError otherwise). It loses the
+    centrifugal stiffening of a fast spin (the membrane stretch is then an inertial load, not a
+    function of the bending): spun above its first bending frequency it would diverge like
+    ``LINEAR`` (inferred from its tangents, section 4 there). No ply stresses yet
+    (:func:`deployfx.stress.strain_measure`)."""
 
     RIGID = "rigid"
     LINEAR = "linear"
     NONLINEAR = "nonlinear"
     REDUCED_LINEAR = "reduced-linear"
     REDUCED_NONLINEAR = "reduced-nonlinear"
+    REDUCED_MANIFOLD = "reduced-manifold"
 
     def __str__(self) -> str:
         return self.value
@@ -44,8 +60,16 @@ class Fidelity(str, enum.Enum):
 
     @property
     def reduced(self) -> bool:
-        """True for the reduced fidelities (elastic coordinates are Ritz coordinates)."""
-        return self in (Fidelity.REDUCED_LINEAR, Fidelity.REDUCED_NONLINEAR)
+        """True for the reduced fidelities (the mesh moves in a Ritz basis; the elastic
+        coordinates are its Ritz coordinates, or for ``REDUCED_MANIFOLD`` its bending ones)."""
+        return self in (Fidelity.REDUCED_LINEAR, Fidelity.REDUCED_NONLINEAR, Fidelity.REDUCED_MANIFOLD)
+
+    @property
+    def slaved(self) -> bool:
+        """True when the panel's coordinates (those the mesh moves by, ``Model.basis``) are a
+        nonlinear function of its elastic coordinates (``REDUCED_MANIFOLD``); for every other
+        fidelity they are the elastic coordinates themselves."""
+        return self is Fidelity.REDUCED_MANIFOLD
 
     @classmethod
     def parse(cls, value: object, name: str = "fidelity") -> "Fidelity":

@@ -339,7 +339,18 @@ def shear_distribution(laminate: Laminate, z: object) -> np.ndarray:
 def strain_measure(fidelity: str) -> str:
     """The strain a fidelity's internal force uses: "green" for "nonlinear" and
     "reduced-nonlinear" (You et al. 2016 Eq. 14), "linear" for "linear" and "reduced-linear".
-    A rigid appendage has no stresses (ValueError)."""
+    A rigid appendage has no stresses (ValueError).
+
+    "reduced-manifold" has none yet (ValueError): its energy is Green strain without the in-plane
+    displacements' own quadratic terms (docs/research/quadratic-manifold.md, "poly"), which
+    neither measure here is. Green strain of its mesh displacements adds those terms back, about
+    the foreshortening's (w_x^2/2)^2/2, as tension: on the paper scene (6 x 4, node E at
+    0.41 m) 196 MPa of peak fibre stress where the reduced-nonlinear run of the same motion has
+    52 MPa; linear strain leaves out w_x^2/2 itself (8 GPa)."""
+    if fidelity == "reduced-manifold":
+        raise ValueError("fidelity = 'reduced-manifold' has no ply stresses yet: its strain (Green strain "
+                         "without the in-plane displacements' own quadratic terms) is neither 'green' nor "
+                         "'linear' (deployfx.stress.strain_measure); use 'reduced-nonlinear' for stresses")
     measures = {"nonlinear": "green", "reduced-nonlinear": "green", "linear": "linear",
                 "reduced-linear": "linear"}
     if fidelity not in measures:

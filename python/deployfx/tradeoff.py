@@ -42,6 +42,9 @@ from .integrators import HHT, GeneralizedAlpha, Newmark, Scheme, SimulationError
 from .results import Result
 from .scene import FIDELITIES
 
+#: The fidelities whose basis has modal derivatives (Case.derivative_modes, derivative_partners).
+_DERIVATIVE_MODELS = ("reduced-nonlinear", "reduced-manifold")
+
 #: Error metrics, in the order of the plot's panels: column name -> axis label.
 ERRORS = {"lock_time_error_s": "|first lock time error| (s)",
           "peak_lock_force_rel_error": "peak lock force, relative error",
@@ -74,19 +77,20 @@ class Case:
     """One run of the paper's scene: what it costs and how accurate it is depend on these.
 
     - ``model``: fidelity, one of ``rigid``, ``linear``, ``nonlinear``, ``reduced-linear``,
-      ``reduced-nonlinear``;
+      ``reduced-nonlinear``, ``reduced-manifold`` (:class:`~deployfx.specs.Fidelity`);
     - ``nx``, ``ny``: elements along the 2.0 m length and the 1.3 m width (the paper: 15 x 10);
     - ``dt`` (s): output step, the fixed integration step unless ``tolerance`` is set;
     - ``scheme``: the integrator (``GeneralizedAlpha``, ``HHT`` or ``Newmark``);
     - ``modes``: clamped modes of a reduced model (None: the scene's default, 10); must be None
       for the full fidelities;
-    - ``derivative_modes``: the reduced-nonlinear basis's modal derivatives are those of every
-      pair among its first ``derivative_modes`` modes (None: min(modes, 3); fewer: a smaller
-      basis, cheaper per step, whose node E deflection drifts from the full model's); must be None
-      for the other fidelities;
+    - ``derivative_modes``: the reduced-nonlinear (or reduced-manifold) basis's modal derivatives
+      are those of every pair among its first ``derivative_modes`` modes (None: min(modes, 3);
+      fewer: a smaller basis, cheaper per step, whose node E deflection drifts from the full
+      model's); must be None for the other fidelities;
     - ``derivative_partners``: and those of each of its first ``derivative_partners`` modes with
       every mode and static correction (None: the scene's default, 1; 0: the pairs above only;
-      docs/research/undamped-stability.md); reduced-nonlinear only, like ``derivative_modes``;
+      docs/research/undamped-stability.md); reduced-nonlinear and reduced-manifold only, like
+      ``derivative_modes``;
     - ``tolerance`` (m or rad): error-controlled steps of at most ``dt``
       (:meth:`deployfx.scene.Model.simulate`); None: fixed steps;
     - ``newton_tolerance``: Newton's convergence test on the accelerations' relative error
@@ -127,9 +131,9 @@ class Case:
             value = getattr(self, name)
             if value is None:
                 continue
-            if self.model != "reduced-nonlinear":
-                raise ValueError(f"{name} = {value} is only for the reduced-nonlinear model, "
-                                 f"not {self.model!r}")
+            if self.model not in _DERIVATIVE_MODELS:
+                raise ValueError(f"{name} = {value} is only for the {' and '.join(_DERIVATIVE_MODELS)} "
+                                 f"models, not {self.model!r}")
             if as_int(name, value) < 0:
                 raise ValueError(f"{name} = {value} is out of range: must be >= 0 (and <= modes)")
         if self.tolerance is not None:
@@ -383,10 +387,13 @@ def _row(case: Optional[Case], result: Optional[Result], setup: float, wall: flo
 
 
 def _coordinates(case: Optional[Case], meta: dict) -> Optional[int]:
-    # Elastic coordinates: the basis size (reduced), the free dofs (full), 0 (rigid).
+    # Elastic coordinates: those a reduced panel's metadata gives (the basis size, or on the
+    # quadratic manifold its bending part; older results give the basis size only), the free dofs
+    # (full), 0 (rigid).
     hinges = meta.get("hinges") or [{}]
-    if hinges[0].get("basis_size") is not None:
-        return int(hinges[0]["basis_size"])
+    for key in ("elastic_coordinates", "basis_size"):
+        if hinges[0].get(key) is not None:
+            return int(hinges[0][key])
     model = meta.get("model")
     if model == "rigid":
         return 0

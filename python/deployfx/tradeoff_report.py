@@ -12,8 +12,8 @@ from .tradeoff import COLUMNS, ERRORS, _positive
 
 #: Marker and colour of each fidelity family in :func:`plot_work_precision`.
 FAMILY_STYLE = {"rigid": ("s", "tab:gray"), "reduced-linear": ("v", "tab:green"),
-                "reduced-nonlinear": ("^", "tab:orange"), "linear": ("o", "tab:blue"),
-                "nonlinear": ("D", "tab:red")}
+                "reduced-nonlinear": ("^", "tab:orange"), "reduced-manifold": ("P", "tab:purple"),
+                "linear": ("o", "tab:blue"), "nonlinear": ("D", "tab:red")}
 
 def to_dataframe(rows: Sequence[Mapping[str, Any]]):
     """The rows as a pandas DataFrame (columns :data:`COLUMNS`; None becomes NaN in numeric
