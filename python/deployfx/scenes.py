@@ -277,8 +277,10 @@ class SpinUpBeamScene:
 
 def spin_up_beam(omega_s: float, t_s: float = 15.0, model: str = "nonlinear", nx: int = 20) -> SpinUpBeamScene:
     """Kane, Ryan & Banerjee (1987): hub rate Omega(t) = (omega_s/t_s)[t - (t_s/2 pi)
-    sin(2 pi t/t_s)] for t <= t_s, then omega_s (rad/s, s); model "linear" or "nonlinear";
-    ``nx`` elements along the 10 m beam."""
-    if model not in ("linear", "nonlinear"):
-        raise ValueError(f"model = {model!r} is invalid: must be 'linear' or 'nonlinear'")
-    return SpinUpBeamScene(float(omega_s), float(t_s), model, int(nx))
+    sin(2 pi t/t_s)] for t <= t_s, then omega_s (rad/s, s); model: any deforming
+    :class:`~deployfx.specs.Fidelity` ("linear", "nonlinear", or these reduced, or
+    "reduced-manifold"); ``nx`` elements along the 10 m beam."""
+    fidelity = Fidelity.parse(model, "model")
+    if not fidelity.deforms:
+        raise ValueError(f"model = {model!r} is invalid: the spin-up beam must deform (any fidelity but 'rigid')")
+    return SpinUpBeamScene(float(omega_s), float(t_s), str(fidelity), int(nx))
