@@ -236,22 +236,23 @@ Eigen::MatrixXd FlexibleBody::chain(const ElasticState& s, double c_a, const Eig
   const bool with_a = X_ddd.cols() > 0;
   const Eigen::MatrixXd X = with_a ? Eigen::MatrixXd(c_a * X_ddd + c_v * X_dd + c_q * X_d)
                                    : Eigen::MatrixXd(c_v * X_dd + c_q * X_d);
+  if (!manifold_) return chain(s, X, Eigen::MatrixXd(), Eigen::MatrixXd());
+  // dd = G(q) q', ddd = G(q) q'' + C(q', q'): d(dd)/dq = C(q', .), d(ddd)/dq = C(q'', .),
+  // d(ddd)/dq' = 2 C(q', .).
+  const Eigen::MatrixXd W_v = with_a ? Eigen::MatrixXd(c_q * X_dd + 2 * c_v * X_ddd) : Eigen::MatrixXd(c_q * X_dd);
+  return chain(s, X, W_v, with_a && c_q != 0.0 ? Eigen::MatrixXd(c_q * X_ddd) : Eigen::MatrixXd());
+}
+
+Eigen::MatrixXd FlexibleBody::chain(const ElasticState& s, const Eigen::MatrixXd& X, const Eigen::MatrixXd& W_v,
+                                    const Eigen::MatrixXd& W_a) const {
   if (!manifold_) {
     Eigen::MatrixXd out(X.rows(), num_elastic());
     for (int i = 0; i < num_elastic(); ++i) out.col(i) = X.col(free_[i]);
     return out;
   }
-  // dd = G(q) q', ddd = G(q) q'' + C(q', q'): d(dd)/dq = C(q', .), d(ddd)/dq = C(q'', .),
-  // d(ddd)/dq' = 2 C(q', .).
-  const Eigen::MatrixXd W_v = with_a ? Eigen::MatrixXd(c_q * X_dd + 2 * c_v * X_ddd) : Eigen::MatrixXd(c_q * X_dd);
-  return manifold_chain(s, X, W_v, with_a && c_q != 0.0 ? Eigen::MatrixXd(c_q * X_ddd) : Eigen::MatrixXd());
-}
-
-Eigen::MatrixXd FlexibleBody::manifold_chain(const ElasticState& s, const Eigen::MatrixXd& X, const Eigen::MatrixXd& W_v,
-                                             const Eigen::MatrixXd& W_a) const {
   Eigen::MatrixXd out = X * s.G, Cx;
   manifold_->derivative(s.v, Cx);
-  out.noalias() += W_v * Cx;
+  if (W_v.cols() > 0) out.noalias() += W_v * Cx;
   if (W_a.cols() > 0) {
     manifold_->derivative(s.a, Cx);
     out.noalias() += W_a * Cx;
@@ -343,7 +344,7 @@ void FlexibleBody::manifold_block(const ElasticState& s, const Eigen::VectorXd& 
   const double alpha = spec_.alpha_M;
   const Eigen::MatrixXd X = inertia_combination(c_a + c_v * alpha, mass_coefficients(w, al, c_v, c_q));
   const Eigen::MatrixXd W_v = inertia_combination(2 * c_v + c_q * alpha, mass_coefficients(w, al, c_q, 0.0));
-  Eigen::MatrixXd E = projected(s, manifold_chain(s, X, W_v, c_q != 0.0 ? Eigen::MatrixXd(c_q * L_eta_) : Eigen::MatrixXd()));
+  Eigen::MatrixXd E = projected(s, chain(s, X, W_v, c_q != 0.0 ? Eigen::MatrixXd(c_q * L_eta_) : Eigen::MatrixXd()));
   if (c_q != 0.0) E += c_q * manifold_->contract(Q + spec_.alpha_M * (L_eta_ * s.dd));
   vals = Eigen::Map<const Eigen::VectorXd>(E.data(), E.size());  // every value (elastic_block())
   add_elastic_block(s.q, c_v, c_q, vals, ws);  // the quartic's tangent; beta_K's damping

@@ -132,6 +132,11 @@ class FlexibleBody {
   /// manifold, the free columns of the first term otherwise. (m x num_elastic())
   Eigen::MatrixXd chain(const ElasticState& s, double c_a, const Eigen::MatrixXd& X_ddd, double c_v,
                         const Eigen::MatrixXd& X_dd, double c_q, const Eigen::MatrixXd& X_d) const;
+  /// The same from the combination X = c_a X_ddd + c_v X_dd + c_q X_d as the caller formed it
+  /// (its rounding kept) and, read on the manifold only, W_v = c_q X_dd + 2 c_v X_ddd and
+  /// W_a = c_q X_ddd (no columns: zero).
+  Eigen::MatrixXd chain(const ElasticState& s, const Eigen::MatrixXd& X, const Eigen::MatrixXd& W_v,
+                        const Eigen::MatrixXd& W_a) const;
 
   /// Adds the elastic force (header) at the staged s to r (size num_elastic()).
   void add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws = nullptr) const;
@@ -178,9 +183,6 @@ class FlexibleBody {
   void manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Vector3d& w,
                       const Eigen::Vector3d& al, double c_a, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
                       Workspace* ws) const;
-  // The manifold's chain rule (chain()): X G + W_v C(v, .) + W_a C(a, .) (W_a may have no columns).
-  Eigen::MatrixXd manifold_chain(const ElasticState& s, const Eigen::MatrixXd& X, const Eigen::MatrixXd& W_v,
-                                 const Eigen::MatrixXd& W_a) const;
   // c_L L_c + sum_ij cm(i, j) M_ij on eta (manifold).
   Eigen::MatrixXd inertia_combination(double c_L, const Eigen::Matrix3d& cm) const;
   std::vector<int> free_;

@@ -141,9 +141,10 @@ Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd&
     for (std::size_t i = 0; i < b.attachment->cols.size(); ++i)
       J.col(parent.iv_el + b.attachment->cols[i]) += Jz.col(static_cast<Eigen::Index>(i));
   }
-  // Each panel's own coordinates: d(p, h)/dd' = (S1, H(d)) and d(p, h)/dd = (w~ S1, -V~ S1 +
-  // d(J(d) w)/dd + d(H(d) d')/dd), carried to W, then to the elastic coordinates through the
-  // staging (FlexibleBody::chain).
+  // Each panel's own coordinates: d(p, h)/d(d', d) = c_v (S1, H(d)) + c_q (w~ S1,
+  // -V~ S1 + d(J(d) w)/dd + d(H(d) d')/dd), carried to W, then to the elastic coordinates through
+  // the staging (FlexibleBody::chain; on the manifold d' = G q' also moves with q: c_q (S1, H(d))
+  // C(q', .)).
   for (int k : m.panels()) {
     const Body& b = m.body(k);
     const body::FloatingFrameInertia& ffi = b.panel->inertia();
@@ -157,11 +158,13 @@ Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd&
       X.bottomRows<3>() = skew(C.o_W) * X.topRows<3>() + C.R_WC * dh;
       return X;
     };
-    const Eigen::MatrixXd X_dd = to_world(S1, ffi.rotation_coupling(s.d, memo));
-    const Eigen::MatrixXd X_d =
-        to_world(skew(C.w) * S1, -skew(C.V) * S1 + ffi.inertia_tensor_jacobian(s.d, C.w, memo) +
-                                     ffi.rotation_coupling_jacobian(s.dd, memo));
-    J.middleCols(b.iv_el, b.n_el) += b.panel->chain(s, 0.0, Eigen::MatrixXd(), c_v, X_dd, c_q, X_d);
+    const Eigen::MatrixXd dp = c_v * S1 + c_q * skew(C.w) * S1;
+    const Eigen::MatrixXd dh = c_v * ffi.rotation_coupling(s.d, memo) +
+                               c_q * (-skew(C.V) * S1 + ffi.inertia_tensor_jacobian(s.d, C.w, memo) +
+                                      ffi.rotation_coupling_jacobian(s.dd, memo));
+    const Eigen::MatrixXd W_v =
+        b.panel->manifold() ? Eigen::MatrixXd(c_q * to_world(S1, ffi.rotation_coupling(s.d, memo))) : Eigen::MatrixXd();
+    J.middleCols(b.iv_el, b.n_el) += b.panel->chain(s, to_world(dp, dh), W_v, Eigen::MatrixXd());
   }
   return J;
 }
