@@ -107,8 +107,8 @@ ModalInternalForce::ModalInternalForce(Eigen::MatrixXd K, Eigen::MatrixXd A, Eig
   const Eigen::Index r = K_.rows(), np = r * (r + 1) / 2;
   if (r < 1 || K_.cols() != r || A.rows() != np || A.cols() != r || B.rows() != np || B.cols() != np ||
       !K_.allFinite() || !A.allFinite() || !B.allFinite())
-    throw std::invalid_argument("ModalInternalForce: coefficients must be finite, K (r x r), A (" + std::string("P x r") +
-                                ") and B (P x P) with P = r (r + 1) / 2; got K " + std::to_string(K_.rows()) + " x " +
+    throw std::invalid_argument("ModalInternalForce: coefficients must be finite, K (r x r), A (P x r) and B (P x P) "
+                                "with P = r (r + 1) / 2; got K " + std::to_string(K_.rows()) + " x " +
                                 std::to_string(K_.cols()) + ", A " + std::to_string(A.rows()) + " x " +
                                 std::to_string(A.cols()) + ", B " + std::to_string(B.rows()) + " x " +
                                 std::to_string(B.cols()));
