@@ -184,3 +184,19 @@ def test_refused_where_nothing_or_no_one_can_be_slaved():
     tree.add_rigid_part(2.0, np.diag([1.0, 1.0, 0.5]), (0.15, 0.0, 0.0), body=1)
     with pytest.raises(ValueError, match="reduced-manifold.*cannot carry hinges"):
         tree.compile()
+
+
+def test_panel_coordinates_refuse_wrong_input(pair):
+    """The map's bindings name the hinge and the count they expect (the style guide's "expected
+    vs got"); a hinge without a deforming panel is named as such."""
+    core = pair[0]
+    n = core.layout(0)["num_elastic"]
+    with pytest.raises(ValueError, match=f"hinge 0's {n} elastic coordinates, got 2 x {n + 1}"):
+        core.panel_coordinates(0, np.zeros((2, n + 1)))
+    with pytest.raises(ValueError, match=f"got {n - 1} entries"):
+        core.panel_tangent(0, np.zeros(n - 1))
+    rigid = scene("rigid").model.core
+    with pytest.raises(ValueError, match="carries no deforming panel"):
+        rigid.panel_tangent(0, np.zeros(1))
+    with pytest.raises(ValueError, match="out of range"):
+        core.panel_coordinates(3, np.zeros((1, n)))

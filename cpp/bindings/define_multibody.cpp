@@ -55,6 +55,18 @@ void check_hinge(const Model& m, int k) {
                                 std::to_string(m.num_hinges() - 1) + "]");
 }
 
+// Hinge k's deforming panel, for q_el with `count` elastic coordinates (`got` names q_el's shape).
+const deployfx::body::FlexibleBody& elastic_panel(const Model& m, int k, Eigen::Index count, const std::string& got) {
+  check_hinge(m, k);
+  const auto& panel = m.body(k).panel;
+  if (!panel) throw std::invalid_argument("hinge = " + std::to_string(k) + " carries no deforming panel");
+  const int n = m.body(k).n_el;
+  if (count != n)
+    throw std::invalid_argument("q_el must hold hinge " + std::to_string(k) + "'s " + std::to_string(n) +
+                                " elastic coordinates, got " + got);
+  return *panel;
+}
+
 py::dict outputs_dict(const Outputs& o) {
   py::dict d;
   d["theta"] = o.theta;
@@ -216,15 +228,10 @@ void define_multibody(py::module_& m) {
       .def(
           "panel_coordinates",
           [](const Model& s, int k, const Eigen::MatrixXd& Q) {
-            check_hinge(s, k);
-            const auto& panel = s.body(k).panel;
-            const int n = s.body(k).n_el;
-            if (!panel || Q.cols() != n)
-              throw std::invalid_argument("q_el must be (n, " + std::to_string(n) + ") (hinge " + std::to_string(k) +
-                                          "'s elastic coordinates), got " + std::to_string(Q.rows()) + " x " +
-                                          std::to_string(Q.cols()));
-            Eigen::MatrixXd out(Q.rows(), panel->num_coordinates());
-            for (Eigen::Index i = 0; i < Q.rows(); ++i) out.row(i) = panel->coordinates(Q.row(i).transpose()).transpose();
+            const auto& panel =
+                elastic_panel(s, k, Q.cols(), std::to_string(Q.rows()) + " x " + std::to_string(Q.cols()));
+            Eigen::MatrixXd out(Q.rows(), panel.num_coordinates());
+            for (Eigen::Index i = 0; i < Q.rows(); ++i) out.row(i) = panel.coordinates(Q.row(i).transpose()).transpose();
             return out;
           },
           py::arg("hinge"), py::arg("q_el"),
@@ -234,13 +241,7 @@ void define_multibody(py::module_& m) {
       .def(
           "panel_tangent",
           [](const Model& s, int k, const Eigen::VectorXd& q) {
-            check_hinge(s, k);
-            const auto& panel = s.body(k).panel;
-            const int n = s.body(k).n_el;
-            if (!panel || q.size() != n)
-              throw std::invalid_argument("q_el must have " + std::to_string(n) + " entries (hinge " +
-                                          std::to_string(k) + "'s elastic coordinates), got " + std::to_string(q.size()));
-            return panel->coordinates_jacobian(q);
+            return elastic_panel(s, k, q.size(), std::to_string(q.size()) + " entries").coordinates_jacobian(q);
           },
           py::arg("hinge"), py::arg("q_el"),
           "d panel_coordinates / d q_el at q_el, (count x num_elastic): a velocity or shape s of the elastic "
