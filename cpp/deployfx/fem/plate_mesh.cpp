@@ -1,5 +1,7 @@
 #include "deployfx/fem/plate_mesh.hpp"
 
+#include <cmath>
+
 #include "deployfx/math/check.hpp"
 
 namespace deployfx::fem {
@@ -11,9 +13,13 @@ QuadMesh rectangular_mesh(double length, double width, int nx, int ny) {
   if (ny < 1 || ny > 2000) throw_out_of_range("Plate.ny", ny, "an integer in [1, 2000]");
   QuadMesh m;
   m.nodes.resize((nx + 1) * (ny + 1), 3);
+  // L * i / n, or L * (i / n) where L * i overflows (a length near the largest double).
+  auto at = [](double L, int i, int n) {
+    const double x = L * i / n;
+    return std::isfinite(x) ? x : L * (static_cast<double>(i) / n);
+  };
   for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i)
-      m.nodes.row(j * (nx + 1) + i) << length * i / nx, width * j / ny, 0.0;
+    for (int i = 0; i <= nx; ++i) m.nodes.row(j * (nx + 1) + i) << at(length, i, nx), at(width, j, ny), 0.0;
   m.quads.resize(nx * ny, 4);
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
