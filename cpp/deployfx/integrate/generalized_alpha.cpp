@@ -140,7 +140,9 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const Eigen::VectorXd v1 = s.v + h * ((1 - gamma) * s.a + gamma * a1);
     Eigen::VectorXd ve = vdot;  // the accelerations in the equations of motion
     ve.head(nc) = w;
-    const Eigen::VectorXd r = it == 1 && r_start.size() ? std::move(r_start) : sys_.residual(q1, v1, ve, t1);
+    // The predictor's residual, or the one the last relaxation left (relax_slaved).
+    const Eigen::VectorXd r = r_start.size() ? Eigen::VectorXd(std::move(r_start)) : sys_.residual(q1, v1, ve, t1);
+    r_start.resize(0);
     // Eq. 42-43, integrated: the momentum rows, scaled like accelerations.
     const Eigen::VectorXd rm = nc ? Eigen::VectorXd((sys_.momentum(q1, v1, t1) - Pi_n) / (h * gamma * c)) : Eigen::VectorXd();
     if (!r.allFinite() || !rm.allFinite()) throw fail("the residual is not finite");
@@ -232,8 +234,10 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       s.t = t1;
       return it;
     }
-    if (!fresh && (rho > contraction || (stalling && rho > 1e-3))) refactor = true;  // slow or stalled, old matrix
+    const double floor_contraction = solver_.dense() ? newton_.floor_contraction_dense : newton_.floor_contraction;
+    if (!fresh && (rho > contraction || (stalling && rho > floor_contraction))) refactor = true;  // slow or stalled, old matrix
     previous = size;
+    if (newton_.relax_every_iteration && !solver_.dense()) r_start = relax_slaved(s, h, vdot, w);
   }
   throw not_converged();
 }
@@ -252,6 +256,16 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
 // block of the last factorization for this step size (nearly constant: M, K and small in-plane
 // geometric terms), or one formed here when the step size changed. The converged step solves the
 // same equations: only Newton's start moves.
+// With a sparse iteration matrix (the full meshes) the sweeps also follow every Newton iteration
+// (NewtonOptions::relax_every_iteration; their last residual is the next iteration's): each
+// iteration's increment leaves the in-plane rows 50-100 times the others (the bending moved,
+// the membrane strain with it), and a kept matrix, whose geometric stiffness reflects another
+// membrane state, then stops contracting at the third iteration (0.5-1) until a fresh matrix is
+// formed, about once a step. Relaxed, the same kept matrix contracts by 2-4e-3 per iteration.
+// Paper scene, 15 x 10, 30 s: factorizations 6060 -> 2115, CPU -22 % together with
+// NewtonOptions::floor_contraction (docs/performance-history.md, session 21). Not for a dense (reduced) matrix: there a
+// factorization costs about one residual and the extra residual per iteration does not pay
+// (reduced-nonlinear +19 %).
 Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Eigen::VectorXd& vdot,
                                                const Eigen::VectorXd& w) {
   if (slaved_.empty()) return {};

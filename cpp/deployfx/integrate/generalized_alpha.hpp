@@ -68,6 +68,18 @@ struct NewtonOptions {
   double contraction = 0.25;
   double contraction_dense = 0.03;
   int full_newton_steps = 10;
+  /// Near the round-off floor (`floor`) a kept matrix's step is trusted while it contracts by
+  /// at least this much (else a fresh matrix is formed: an old matrix's small steps alone prove
+  /// nothing): `floor_contraction` for a sparse matrix, `floor_contraction_dense` for a dense one.
+  /// Measured on the paper's 30 s scene, 15 x 10 (docs/performance-history.md, session 21): a kept
+  /// sparse matrix whose iterations contract by 2-4e-3 at the floor's size converges in its next
+  /// iteration; 1e-3 there refactored about once a step for nothing (linear model: 3583 against
+  /// 2363 factorizations, 7.5-9.0 against 6.3-6.9 s).
+  double floor_contraction = 0.03;
+  double floor_contraction_dense = 1e-3;
+  /// With a sparse matrix, relax the slaved rows (relax_slaved) after every iteration, not only
+  /// at the predictor: see GeneralizedAlpha::relax_slaved.
+  bool relax_every_iteration = true;
 };
 
 /// The state the integrator carries from step to step.
