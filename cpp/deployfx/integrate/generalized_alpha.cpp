@@ -237,7 +237,8 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const double floor_contraction = solver_.dense() ? newton_.floor_contraction_dense : newton_.floor_contraction;
     if (!fresh && (rho > contraction || (stalling && rho > floor_contraction))) refactor = true;  // slow or stalled, old matrix
     previous = size;
-    if (newton_.relax_every_iteration && !solver_.dense()) r_start = relax_slaved(s, h, vdot, w);
+    // After a kept matrix's update (a fresh one's leaves the membrane misfit at second order).
+    if (newton_.relax_every_iteration && !solver_.dense() && !fresh) r_start = relax_slaved(s, h, vdot, w);
   }
   throw not_converged();
 }
@@ -257,11 +258,13 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
 // geometric terms), or one formed here when the step size changed. The converged step solves the
 // same equations: only Newton's start moves.
 // With a sparse iteration matrix (the full meshes) the sweeps also follow every Newton iteration
-// (NewtonOptions::relax_every_iteration; their last residual is the next iteration's): each
-// iteration's increment leaves the in-plane rows 50-100 times the others (the bending moved,
-// the membrane strain with it), and a kept matrix, whose geometric stiffness reflects another
-// membrane state, then stops contracting at the third iteration (0.5-1) until a fresh matrix is
-// formed, about once a step. Relaxed, the same kept matrix contracts by 2-4e-3 per iteration.
+// with a kept matrix (NewtonOptions::relax_every_iteration; their last residual is the next
+// iteration's): each such increment leaves the in-plane rows 50-100 times the others (the bending
+// moved, the membrane strain with it), and the kept matrix, whose geometric stiffness reflects
+// another membrane state, then stops contracting at the third iteration (0.5-1) until a fresh
+// matrix is formed, about once a step. Relaxed, the same kept matrix contracts by 2-4e-3 per
+// iteration. After a fresh matrix's update the misfit is of second order and the sweeps do not
+// pay (the error-controlled paper run: 13.0 s with them, 11.8 without).
 // Paper scene, 15 x 10, 30 s: factorizations 6060 -> 2115, CPU -22 % together with
 // NewtonOptions::floor_contraction (docs/performance-history.md, session 21). Not for a dense (reduced) matrix: there a
 // factorization costs about one residual and the extra residual per iteration does not pay
