@@ -10,7 +10,9 @@
 //   U(q) = U(q, 0) + eta_m^T f_m(q, 0) + eta_m^T K_mm eta_m / 2 = U(q, 0) - f_m^T K_mm^-1 f_m / 2,
 // a quartic in q (Green strain without the in-plane vectors' own quadratic strains): with the
 // exact Green-strain energy on the map, the membrane keeps a w_x^4 / 8 stretch and a panel bent
-// to 20 % of its length is 65 % off (the note, section 1); with this one, 0.1 %.
+// to 20 % of its length is 65 % off (the note, section 1); with this one, 0.1 % (a clamped
+// release there; the paper scene in the engine: node E 0.50 % off the full model, the 30-vector
+// reduced model 0.57 %, section 5).
 // Its coefficients, by the fourth derivative of (q^T A_m q)(q^T A_n q):
 //   B'_ijkl = B_ijkl - sum_mn W_mn (A_m,ij A_n,kl + A_m,ik A_n,jl + A_m,il A_n,jk),  W = K_mm^-1.
 #include <Eigen/Core>
@@ -42,7 +44,7 @@ class QuadraticManifold {
   /// The same from G = jacobian(q): eta_m,k = G_k q / 2 (C(q, q) / 2 with C(q, .) = G's in-plane rows).
   void map(const Eigen::VectorXd& q, const Eigen::MatrixXd& G, Eigen::VectorXd& eta) const;
   /// X = d/dx C(x, y) at y: (num_dofs() x num_coordinates()), zero on the bending rows; G = dg/dq
-  /// is the bending rows' identity plus C_dy(q).
+  /// is the bending rows' identity plus derivative(q).
   void derivative(const Eigen::VectorXd& y, Eigen::MatrixXd& X) const;
   /// The Jacobian G = dg/dq at q into `G` (num_dofs() x num_coordinates()).
   void jacobian(const Eigen::VectorXd& q, Eigen::MatrixXd& G) const;
@@ -56,7 +58,7 @@ class QuadraticManifold {
   std::vector<int> bending_, in_plane_;
   int num_dofs_ = 0;
   Eigen::MatrixXd C_;  // C_k stacked, (n_m n_q x n_q): rows k n_q .. (k + 1) n_q - 1 the symmetric C_k
-  Eigen::MatrixXd W_;               // K_mm^-1
+  Eigen::MatrixXd W_;  // K_mm^-1
 };
 
 }  // namespace deployfx::fem
