@@ -286,6 +286,8 @@ def test_both_locks_latch_and_hold_the_deployed_array():
     (lambda h: h.update(body=(-1.0, np.zeros(3), np.eye(3))), "hinges[1].body.mass"),
     (lambda h: h.update(body=(1.0, np.zeros(3), -np.eye(3))), "hinges[1].body.inertia"),
     (lambda h: h.update(parent=1), "hinges[1].parent"),
+    # a point 5e108 m away left the mass matrix singular (a fuzz case): refused, with the range
+    (lambda h: h.update(point=[-5e108, 0.0, 0.0]), "hinges[1].point must be 3 finite numbers within 1e4 m"),
 ])
 def test_bad_hinge_specs_raise_value_error_naming_them(change, name):
     # (A massless leaf body is refused by Scene.compile, "carries no body": test_scene_chain_errors.)

@@ -520,6 +520,9 @@ def test_version_1_spin_up_and_paper_dicts_are_read(paper):
      r"^appendage.fidelity = 'stiff' is invalid: must be one of 'rigid', 'linear', 'nonlinear'"),
     (lambda d: d["appendage"]["options"].update(modes=2.5),
      r"^appendage.options.modes must be an integer, got 2.5$"),
+    # a fuzz case: an index past 64 bits overflowed numpy's cast instead of naming the key
+    (lambda d: d["appendage"].update(fixed_dofs=[0, 99999999999999999999]),
+     r"^appendage.fixed_dofs holds 99999999999999999999, out of range: must be 64-bit integers$"),
     (lambda d: d["appendage"]["options"].update(study_tag=7),
      r"^appendage.options has unknown key\(s\) appendage.options.study_tag; allowed: modes, "
      r"derivative_modes$"),

@@ -73,6 +73,10 @@ def _array(value: Any, where: str, shape: tuple, integer: bool = False) -> np.nd
           and all(not isinstance(x, bool) and isinstance(x, kind) for x in a.ravel()))
     if not ok:
         raise ValueError(f"{where} must be {dims} {what}, got {value!r}"[:300])
+    if integer:  # a 64-bit index at most (a fuzz case: 99999999999999999999 overflowed the cast)
+        big = [x for x in a.ravel() if not -2**63 <= x < 2**63]
+        if big:
+            raise ValueError(f"{where} holds {big[0]!r}, out of range: must be 64-bit integers"[:300])
     return a.astype(int if integer else float)
 
 

@@ -46,7 +46,12 @@ void check_hinge(const std::string& name, const HingeSpec& h, int k) {
   if (!(h.parent >= -1 && h.parent < k))
     throw std::invalid_argument(name + ".parent = " + std::to_string(h.parent) + " is out of range: must be -1 (the base)" +
                                 (k > 0 ? " or an earlier hinge's index in [0, " + std::to_string(k - 1) + "]" : ""));
-  if (!h.point.allFinite()) throw std::invalid_argument(name + ".point must be 3 finite numbers (m)");
+  // Within 10 km of the parent's origin: a spacecraft's hinges lie within tens of metres, and a
+  // point far beyond makes m r^2 swamp every other inertia (a fuzz case at 5e108 m left the mass
+  // matrix singular to working precision).
+  constexpr double kMaxHingeDistance = 1e4;  // m
+  if (!h.point.allFinite() || !(h.point.cwiseAbs().maxCoeff() <= kMaxHingeDistance))
+    throw std::invalid_argument(name + ".point must be 3 finite numbers within 1e4 m of the parent's origin (m)");
   if (!(std::abs(h.axis.norm() - 1.0) < 1e-9))
     throw_out_of_range(name + ".axis (its norm)", h.axis.norm(), "1 (a unit vector)");
   const Eigen::Matrix3d& R = h.R_PC0;
