@@ -182,8 +182,8 @@ class SpinUp:
 @dataclass(frozen=True, eq=False)
 class Hinge:
     """A revolute hinge and where it sits: ``parent`` ("base" or the index of an earlier hinge,
-    whose body carries it), a ``point`` of its axis (m) and its unit ``axis`` in the parent's
-    frame, ``R_PC0`` the body frame's axes at theta = 0; the spring ``tau0 - k_theta theta``
+    whose body carries it), a ``point`` of its axis (m, within 1e4 m of the parent's origin) and
+    its unit ``axis`` in the parent's frame, ``R_PC0`` the body frame's axes at theta = 0; the spring ``tau0 - k_theta theta``
     (N m, N m/rad) and damper ``c_theta`` (N m s/rad); the ``fitting`` (the rigid part turning with
     the body that the spring, damper and lock act on, in C); ``spin_up``: theta(t) prescribed
     instead; ``stowed_angle_deg``: the angle reported as the deployment angle at theta = 0 (the
