@@ -23,11 +23,11 @@ from typing import Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core, _node_rows, impacts
+from . import _core, _node_rows, _run_record, impacts
 from . import checkpoint as _checkpoint
 from ._checks import finite_vector
 from ._node_rows import node_translations
-from ._run import _run_arguments, _run_result, _timed_run, base_attitude_deg, newton_tolerance_arg
+from ._run import _run_arguments, _run_result, _timed_run, newton_tolerance_arg
 from .integrators import GeneralizedAlpha
 from .results import Result
 
@@ -473,27 +473,7 @@ class Model:
     @functools.cached_property
     def _hinges_described(self) -> tuple:
         """What a run's metadata says of each hinge before the run's own keys: the model's, taken once."""
-        out = []
-        for k, L in enumerate(self.links):
-            lay = self.core.layout(k)
-            info = {"parent": "base" if lay["parent"] < 0 else int(lay["parent"]),
-                    "fidelity": None if L.appendage is None else str(L.appendage.fidelity),
-                    "lock": L.lock is not None, "lock_play_deg": None if L.lock is None else L.lock.play_deg,
-                    "driven": L.hinge.spin_up is not None, "stowed_angle_deg": L.hinge.stowed_angle_deg,
-                    "tip_node": int(self.tip_nodes[k])}
-            if L.hinge.spin_up is not None:
-                info["spin_up"] = {"omega_s_rad_per_s": float(L.hinge.spin_up.omega_s),
-                                   "t_s_s": float(L.hinge.spin_up.t_s)}
-            if L.appendage is not None:
-                info["mesh"] = {"nodes": int(L.appendage.shell.nodes.shape[0]),
-                                "quads": int(np.asarray(L.appendage.shell.quads).shape[0])}
-            b = self.core.basis_info(k)
-            if b is not None:
-                info.update(modes=b["modes"], static_corrections=b["static_corrections"],
-                            modal_derivatives=b["modal_derivatives"], basis_size=b["size"],
-                            elastic_coordinates=int(lay["num_elastic"]))  # < basis_size on a manifold
-            out.append(info)
-        return tuple(out)
+        return _run_record.describe_hinges(self)
 
     @functools.cached_property
     def _rest(self) -> tuple:
@@ -516,26 +496,5 @@ class Model:
                      for k, (node, deforming) in enumerate(zip(self.tip_nodes, self.deforming)))
 
     def _series(self, raw: dict) -> dict:
-        q = raw["q"]
-        n, H = len(q), self.num_hinges
-        stowed = self._rest[2]
-        tip = np.zeros((n, H, 3))
-        deflection = np.zeros((n, H))
-        for k, translations in enumerate(self._tips):
-            if translations is not None:
-                tip[:, k] = translations(q)[:, 0]
-                deflection[:, k] = tip[:, k] @ self.tip_directions[k]
-        return {
-            "t": raw["t"],
-            "deployment_angle": stowed + np.degrees(raw["theta"]),
-            "deployment_rate": np.degrees(raw["theta_rate"]),
-            "spring_torque": raw["spring_torque"], "lock_force": raw["lock_force"],
-            "lock_torque": raw["lock_torque"], "latched": raw["latched"],
-            "hinge_force": raw["hinge_force"], "hinge_moment": raw["hinge_moment"],
-            "strain_energy": raw["strain_energy"], "tip_displacement": tip, "tip_deflection": deflection,
-            "body_attitude": base_attitude_deg(q, self.base_free),
-            "total_angular_momentum": raw["angular_momentum"], "body_angular_momentum": raw["base_angular_momentum"],
-            "total_linear_momentum": raw["linear_momentum"], "body_linear_momentum": raw["base_linear_momentum"],
-            "kinetic_energy": raw["kinetic_energy"], "potential_energy": raw["potential_energy"],
-            "q": q, "v": raw["v"],
-        }
+        """A run's series from the engine's arrays (deployfx.results names them)."""
+        return _run_record.series(self, raw)
