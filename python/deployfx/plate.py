@@ -203,7 +203,7 @@ class ShellModel:
 class Plate:
     """A rectangular laminated plate meshed with ``nx`` x ``ny`` shell elements.
 
-    ``length`` (m) runs along x, ``width`` (m) along y; 0-degree plies lie along x. Node
+    ``length`` (m) runs along x, ``width`` (m) along y (each in (0, 1e6]); 0-degree plies lie along x. Node
     ``(i, j)`` (i along x) has index ``j (nx + 1) + i``.
 
     ``boundary`` names the edges x=0, y=0, x=length, y=width, each ``C`` (clamped), ``S``
