@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "deployfx/integrate/anderson.hpp"
 #include "deployfx/integrate/bordered_solver.hpp"
 #include "deployfx/integrate/generalized_alpha.hpp"
 #include "deployfx/integrate/linear_system.hpp"
@@ -43,6 +44,29 @@ void define_integrate(py::module_& m) {
         py::arg("A"), py::arg("B"), py::arg("C"), py::arg("E"), py::arg("r"), py::arg("exact") = true,
         "Newton's bordered solve (integrate/bordered_solver), for the tests: x = S^-1 r and how E "
         "was factorized (BorderedSolver::method).");
+
+  m.def("anderson_fixed_point",
+        [](const Eigen::MatrixXd& G, const Eigen::VectorXd& c, const Eigen::VectorXd& x0, int depth, int iterations) {
+          const Eigen::Index n = G.rows();
+          if (G.cols() != n || c.size() != n || x0.size() != n)
+            throw std::invalid_argument("anderson_fixed_point: G must be square (n x n), c and x0 of size n");
+          if (depth < 0) throw std::invalid_argument("anderson_fixed_point: depth must be >= 0");
+          if (iterations < 0 || iterations > 10000)
+            throw std::invalid_argument("anderson_fixed_point: iterations must be in [0, 10000]");
+          AndersonMixing mixing(depth);
+          Eigen::MatrixXd X(n, iterations + 1);
+          Eigen::VectorXd x = x0;
+          X.col(0) = x;
+          for (int k = 0; k < iterations; ++k) {
+            const Eigen::VectorXd f = G * x + c - x;
+            x = mixing.next(x, f);
+            X.col(k + 1) = x;
+          }
+          return X;
+        },
+        py::arg("G"), py::arg("c"), py::arg("x0"), py::arg("depth"), py::arg("iterations"),
+        "Anderson acceleration (integrate/anderson) of the fixed-point iteration x <- G x + c, for the "
+        "tests: the iterates x_0 .. x_iterations as columns.");
 
   m.def("bordered_solve_cost",
         [](const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C,

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "deployfx/integrate/anderson.hpp"
 #include "deployfx/math/check.hpp"
 
 namespace deployfx::integrate {
@@ -134,6 +135,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   bool refactor = !newton_.reuse_jacobian || !(std::abs(factor_h_ - h) <= newton_.step_reuse * h) || full;
   double previous = 0;
   Eigen::VectorXd last;  // the previous applied increment (dv, db)
+  AndersonMixing mixing(newton_.anderson_depth);  // a kept sparse matrix's iterations (NewtonOptions)
   for (int it = 1; it <= newton_.max_iterations; ++it) {
     const Eigen::VectorXd a1 = a_of(vdot);
     const Eigen::VectorXd q1 = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a1));
@@ -204,9 +206,26 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const double limit = sys_.newton_step_limit(q1, v1, -(h * gamma * c) * dvel);
     const bool limited = limit < (cycle ? 0.5 : 1.0);
     const double lambda = limited ? limit : cycle ? 0.5 : 1.0;
-    last = lambda * inc;
-    vdot.tail(n - nc) -= lambda * dv.tail(n - nc);
-    if (nc) w -= lambda * dv.head(nc), vdot.head(nc) -= lambda * db;
+    // A fresh matrix's step, and a damped one, are plain Newton steps; the history restarts there.
+    if (fresh || cycle || limited) mixing.reset();
+    if (cycle || limited || solver_.dense() || newton_.anderson_depth <= 0) {
+      last = lambda * inc;
+      vdot.tail(n - nc) -= lambda * dv.tail(n - nc);
+      if (nc) w -= lambda * dv.head(nc), vdot.head(nc) -= lambda * db;
+    } else {
+      // The unknowns x = (vdot, w) and the kept matrix's increment f = -(the applied inc).
+      Eigen::VectorXd x(n + nc), f(n + nc);
+      x << vdot, w;
+      f.head(n).tail(n - nc) = -dv.tail(n - nc);
+      if (nc) f.head(nc) = -db, f.tail(nc) = -dv.head(nc);
+      const Eigen::VectorXd x1 = mixing.next(x, f);
+      last.resize(inc.size());  // the step taken, in inc's layout (dv, db)
+      last.head(nc) = w - x1.tail(nc);
+      last.segment(nc, n - nc) = vdot.tail(n - nc) - x1.head(n).tail(n - nc);
+      last.tail(nc) = vdot.head(nc) - x1.head(nc);
+      vdot = x1.head(n);
+      w = x1.tail(nc);
+    }
     if (cycle || limited) {
       previous = lambda * size;
       if (limited) refactor = true;  // the matrix of the far side no longer holds

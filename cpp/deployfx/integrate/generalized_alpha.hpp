@@ -80,6 +80,12 @@ struct NewtonOptions {
   /// With a sparse matrix, relax the slaved rows (relax_slaved) after every iteration, not only
   /// at the predictor: see GeneralizedAlpha::relax_slaved.
   bool relax_every_iteration = true;
+  /// With a sparse matrix, the kept matrix's iterations within a step are Anderson-accelerated
+  /// over this many past increments (integrate/anderson.hpp; 0: plain modified Newton). Measured
+  /// on the paper's 30 s scene, 15 x 10 (docs/performance-history.md, session 22): depth 2 takes
+  /// the nonlinear model's factorizations from 2380 to 2160 and its CPU by 3-5 %, the linear
+  /// model's by 9 %; for a dense matrix it does not pay (reduced-linear +4 %, the others equal).
+  int anderson_depth = 2;
 };
 
 /// The state the integrator carries from step to step.
