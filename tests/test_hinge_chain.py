@@ -288,6 +288,9 @@ def test_both_locks_latch_and_hold_the_deployed_array():
     (lambda h: h.update(parent=1), "hinges[1].parent"),
     # a point 5e108 m away left the mass matrix singular (a fuzz case): refused, with the range
     (lambda h: h.update(point=[-5e108, 0.0, 0.0]), "hinges[1].point must be 3 finite numbers within 1e4 m"),
+    # a fitting inertia of 1.8e308 overflowed the mass matrix (a fuzz case): refused, with the range
+    (lambda h: h.update(body=(1e51, np.zeros(3), np.eye(3))), "hinges[1].body.mass = 1e.51 is out of range.*<= 1e50"),
+    (lambda h: h.update(body=(1.0, np.zeros(3), 1e60 * np.eye(3))), "hinges[1].body.inertia must have entries within 1e50"),
 ])
 def test_bad_hinge_specs_raise_value_error_naming_them(change, name):
     # (A massless leaf body is refused by Scene.compile, "carries no body": test_scene_chain_errors.)
@@ -304,6 +307,8 @@ def test_bad_chain_specs_raise_value_error():
         chain(True, 0.0, np.eye(3), [spec(-1, [0, 0, 0], Y, rod(1.0, 1.0))])
     with pytest.raises(ValueError, match="base.inertia"):
         chain(True, 1.0, np.zeros((3, 3)), [spec(-1, [0, 0, 0], Y, rod(1.0, 1.0))])
+    with pytest.raises(ValueError, match="base.mass .*<= 1e50"):
+        chain(True, 1e60, np.eye(3), [spec(-1, [0, 0, 0], Y, rod(1.0, 1.0))])
     ch = double_pendulum()
     with pytest.raises(ValueError, match="q, v, a must have sizes 2, 2, 2"):
         ch.residual(np.zeros(3), np.zeros(2), np.zeros(2), 0.0)
@@ -419,6 +424,11 @@ def test_scene_chain_errors_name_the_parameter():
         scene.add_hinge(0, point=(1, 0, 0), axis=(0, 1, 0), R_PE0=2.0)
     with pytest.raises(ValueError, match=r"hinges\[1\].k_theta = -1.0 is out of range: must be finite and >= 0"):
         scene.add_hinge(0, point=(1.04, 0, 0), axis=(0, 1, 0), k_theta=-1.0)
+    # The fuzz suite's fitting of 1.8e308 kg m^2 overflowed the mass matrix: refused, with the range.
+    with pytest.raises(ValueError, match=r"hinges\[1\].fitting.inertia must have entries within 1e50"):
+        scene.add_hinge(0, point=(1.04, 0, 0), axis=(0, 1, 0), fitting_inertia=1.7976931348623157e308)
+    with pytest.raises(ValueError, match=r"hinges\[1\].fitting.mass = 1e\+60 is out of range: must be finite, >= 0 and <= 1e50"):
+        scene.add_hinge(0, point=(1.04, 0, 0), axis=(0, 1, 0), fitting_mass=1e60)
     with pytest.raises(ValueError, match=r"appendage.hinge = 4 is out of range: must be in \[0, 0\]"):
         scene.set_appendage(shell, root, fidelity="rigid", hinge=4)
     with pytest.raises(ValueError, match=r"part.body = 'yoke' is invalid"):

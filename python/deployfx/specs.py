@@ -111,6 +111,11 @@ def matrix3(name: str, value) -> np.ndarray:
     return _frozen(a)
 
 
+#: The largest mass (kg) and inertia entry (kg m^2) of a rigid part: the engine's bound
+#: (multibody::check_rigid_inertia), beyond which the mass matrix leaves the doubles' range.
+_MAX_RIGID = 1e50
+
+
 @dataclass(frozen=True, eq=False)
 class RigidPart:
     """A rigid body: mass (kg), centre of mass (m) and inertia about it (kg m^2), in its frame."""
@@ -121,13 +126,16 @@ class RigidPart:
 
     @staticmethod
     def make(name: str, mass: float, com, inertia) -> "RigidPart":
-        """A checked part: mass (kg, >= 0), centre of mass (m, 3) and inertia about it (kg m^2,
-        3 x 3 symmetric positive semidefinite, or a scalar times identity); TypeError or
+        """A checked part: mass (kg, in [0, 1e50]), centre of mass (m, 3) and inertia about it
+        (kg m^2, 3 x 3 symmetric positive semidefinite with entries within 1e50, or a scalar times
+        identity); TypeError or
         ValueError naming ``<name>.mass``, ``<name>.com`` or ``<name>.inertia`` otherwise."""
         m = as_float(f"{name}.mass", mass)
-        if not (np.isfinite(m) and m >= 0):
-            raise ValueError(f"{name}.mass = {m} is out of range: must be finite and >= 0 (kg)")
+        if not (np.isfinite(m) and 0 <= m <= _MAX_RIGID):
+            raise ValueError(f"{name}.mass = {m} is out of range: must be finite, >= 0 and <= 1e50 (kg)")
         J = matrix3(f"{name}.inertia", inertia)
+        if not np.abs(J).max() <= _MAX_RIGID:
+            raise ValueError(f"{name}.inertia must have entries within 1e50 (kg m^2)")
         if np.abs(J - J.T).max() > 1e-12 * max(1.0, np.abs(J).max()) or np.linalg.eigvalsh(J).min() < -1e-12 * np.abs(J).max():
             raise ValueError(f"{name}.inertia must be symmetric positive semidefinite (kg m^2)")
         return RigidPart(m, vector(f"{name}.com", com), J)

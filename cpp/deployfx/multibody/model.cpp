@@ -26,10 +26,14 @@ void SpinUpDriver::evaluate(double t, double* theta, double* rate, double* accel
 }
 
 void check_rigid_inertia(const std::string& name, const RigidInertia& body, bool definite) {
+  // At most kMaxMagnitude (1e50 kg, kg m^2): with hinge arms within 1e4 m the mass matrix and its
+  // factorization then stay within the doubles' range (a fuzz case's fitting inertia of 1.8e308
+  // overflowed it: "the mass matrix is singular").
   if (definite) {
     require_positive(name + ".mass", body.mass, "(kg)");
-  } else if (!(std::isfinite(body.mass) && body.mass >= 0)) {
-    throw_out_of_range(name + ".mass", body.mass, "finite and >= 0 (kg)");
+    if (!(body.mass <= kMaxMagnitude)) throw_out_of_range(name + ".mass", body.mass, "<= 1e50 (kg)");
+  } else if (!(std::isfinite(body.mass) && body.mass >= 0 && body.mass <= kMaxMagnitude)) {
+    throw_out_of_range(name + ".mass", body.mass, "finite, >= 0 and <= 1e50 (kg)");
   }
   if (!body.com.allFinite()) throw std::invalid_argument(name + ".com must be 3 finite numbers (m)");
   const Eigen::Matrix3d& J = body.inertia_com;
@@ -38,6 +42,8 @@ void check_rigid_inertia(const std::string& name, const RigidInertia& body, bool
   if (!symmetric || !(definite ? low > 0 : low >= -1e-12 * J.norm()))
     throw std::invalid_argument(name + ".inertia must be symmetric positive " +
                                 (definite ? "definite" : "semidefinite") + " (kg m^2)");
+  if (!(J.cwiseAbs().maxCoeff() <= kMaxMagnitude))
+    throw std::invalid_argument(name + ".inertia must have entries within 1e50 (kg m^2)");
 }
 
 namespace {
