@@ -179,7 +179,7 @@ class Scene:
         docs/research/undamped-stability.md), with the exact polynomial internal force in that
         basis (docs/engine-design.md); or "reduced-manifold", that basis with its in-plane Ritz
         coordinates slaved to the bending ones on a quadratic manifold (a flat panel with a
-        mirror-symmetric laminate, carrying no hinge; :class:`~deployfx.specs.Fidelity`). Any
+        mirror-symmetric laminate; :class:`~deployfx.specs.Fidelity`). Any
         other fidelity on any body of a tree.
         ``damping = (alpha_M, beta_K)``: structural Rayleigh damping C = alpha_M M + beta_K K
         (1/s, s), a modal damping ratio (alpha_M / omega + beta_K omega) / 2.

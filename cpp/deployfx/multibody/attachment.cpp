@@ -32,6 +32,13 @@ Attachment make_attachment(const body::FlexibleBody& parent, int node, const Eig
     if (att.P.col(c).squaredNorm() > 0) att.cols.push_back(c);
   att.P_cols.resize(6, static_cast<Eigen::Index>(att.cols.size()));
   for (std::size_t k = 0; k < att.cols.size(); ++k) att.P_cols.col(static_cast<Eigen::Index>(k)) = att.P.col(att.cols[k]);
+  att.manifold = parent.manifold();
+  if (att.manifold) {
+    att.parent_cols.resize(static_cast<std::size_t>(parent.num_elastic()));
+    for (int c = 0; c < parent.num_elastic(); ++c) att.parent_cols[static_cast<std::size_t>(c)] = c;
+  } else {
+    att.parent_cols = att.cols;
+  }
   return att;
 }
 

@@ -36,11 +36,18 @@ struct Attachment {
   int node = -1;                                 ///< the parent's mesh node
   Eigen::Vector3d X = Eigen::Vector3d::Zero();   ///< the node, P (undeformed), m
   Eigen::Vector3d r = Eigen::Vector3d::Zero();   ///< rigid arm node -> hinge point, P axes, m
-  /// z = (u, psi) per parent elastic coordinate, (6 x n_parent); its nonzero columns `cols` (the
-  /// node's free dofs for a full panel, every Ritz coordinate for a reduced one) and P on them.
+  /// z = (u, psi) per parent coordinate (FlexibleBody::mesh_rows: its elastic coordinates, or the
+  /// Ritz coordinates eta on a manifold), (6 x n); its nonzero columns `cols` (the node's free
+  /// dofs for a full panel, every Ritz coordinate for a reduced one) and P on them.
   Eigen::Matrix<double, 6, Eigen::Dynamic> P;
   std::vector<int> cols;
   Eigen::Matrix<double, 6, Eigen::Dynamic> P_cols;
+  /// On a reduced-manifold parent P acts on its Ritz coordinates eta = g(q), which every elastic
+  /// coordinate q moves: z = P g(q), z' = P G q', z'' = P (G q'' + C(q', q')), and a generalized
+  /// force tau_z reaches q as G^T P^T tau_z (FlexibleBody::stage, add_projected, chain).
+  bool manifold = false;
+  /// The parent's elastic coordinates z moves with: `cols`, or all of them on a manifold.
+  std::vector<int> parent_cols;
 };
 
 /// The mesh node nearest `point` (m, the mesh's frame); ties go to the lowest index.

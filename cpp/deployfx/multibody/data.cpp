@@ -89,11 +89,12 @@ void forward_kinematics(const Model& m, Data& d, const Eigen::VectorXd& q, const
       J.rate = v(b.iv_theta);
       J.accel = a ? (*a)(b.iv_theta) : 0.0;
     }
-    if (b.attachment) {
+    if (b.attachment) {  // on a manifold, from the staged Ritz coordinates g(q), G q', G q'' + C(q', q')
       const PanelState& p = d.elastic[static_cast<std::size_t>(b.parent)];
-      J.z = attachment_coordinates(*b.attachment, p.q);
-      J.z_rate = attachment_coordinates(*b.attachment, p.v);
-      J.z_accel = attachment_coordinates(*b.attachment, p.a);
+      const bool on_eta = b.attachment->manifold;
+      J.z = attachment_coordinates(*b.attachment, on_eta ? p.d : p.q);
+      J.z_rate = attachment_coordinates(*b.attachment, on_eta ? p.dd : p.v);
+      J.z_accel = attachment_coordinates(*b.attachment, on_eta ? p.ddd : p.a);
     }
   }
   forward_kinematics<double>(m, base_motion(m, q, v, a), d.joints, d.motion);

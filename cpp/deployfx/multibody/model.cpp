@@ -129,17 +129,13 @@ Model::Model(TreeSpec spec) : spec_(std::move(spec)) {
     const AppendageSpec& a = *h.panel;
     if (!a.model) throw std::invalid_argument(name + ".model is missing");
     Eigen::MatrixXd loads;
-    if (a.fidelity == Fidelity::kReducedLinear || a.fidelity == Fidelity::kReducedNonlinear)
+    if (a.fidelity == Fidelity::kReducedLinear || a.fidelity == Fidelity::kReducedNonlinear ||
+        a.fidelity == Fidelity::kReducedManifold)
       for (int c : b.children) {
         const Eigen::MatrixXd f = node_unit_loads(*a.model, nearest_node(*a.model, spec_.hinges[c].point));
         loads.conservativeResize(f.rows(), loads.cols() + f.cols());
         loads.rightCols(f.cols()) = f;
       }
-    if (a.fidelity == Fidelity::kReducedManifold && !b.children.empty())
-      throw std::invalid_argument(name + ".fidelity = 'reduced-manifold' cannot carry hinges (hinge " +
-                                  std::to_string(b.children.front()) +
-                                  " rides on it): a hinge on a slaved panel is not supported; use "
-                                  "'reduced-nonlinear' for a panel that carries others");
     auto panel = std::make_shared<const body::FlexibleBody>(a, name, loads);
     if (panel->flexible()) {
       b.panel = std::move(panel);
@@ -225,7 +221,7 @@ void Model::build_pattern() {
     for (int j : b.subtree)
       for (int i = 0; i < bodies_[j].n_el; ++i) C.rows.push_back(bodies_[j].ie + i);
     const Body& p = bodies_[b.parent];
-    for (int c : b.attachment->cols) C.cols.push_back(p.ie + c);
+    for (int c : b.attachment->parent_cols) C.cols.push_back(p.ie + c);
     // The parent's attachment rows take the attachment's own generalized force (A x A).
     std::vector<int> rows = C.rows;
     rows.insert(rows.end(), C.cols.begin(), C.cols.end());

@@ -1,6 +1,7 @@
 #include "deployfx/multibody/momentum.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "deployfx/multibody/seeds.hpp"
 
@@ -130,14 +131,24 @@ Eigen::Matrix<double, 6, Eigen::Dynamic> MomentumTangent::tangents(const Model& 
   return T;
 }
 
-Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd& T, double c_v, double c_q) {
+Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd& T, double c_v, double c_q,
+                                 const Eigen::MatrixXd* T_rate) {
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6, m.num_velocities());
   J.leftCols(m.border()) = T.leftCols(m.border());
   for (int k = 0; k < m.num_hinges(); ++k) {
     const Body& b = m.body(k);
     if (!b.attachment) continue;
-    const Eigen::MatrixXd Jz = T.middleCols(m.attachment_seed(k), 6) * b.attachment->P_cols;
     const Body& parent = m.body(b.parent);
+    if (b.attachment->manifold) {  // through z = P g(q), z' = P G q' (FlexibleBody::chain)
+      if (!T_rate) throw std::logic_error("momentum_columns: a hinge on a manifold panel needs T_rate");
+      const Attachment& att = *b.attachment;
+      const int seed = m.attachment_seed(k);
+      J.middleCols(parent.iv_el, parent.n_el) +=
+          parent.panel->chain(d.elastic[b.parent], T.middleCols(seed, 6) * att.P,
+                              c_q * T_rate->middleCols(seed, 6) * att.P, Eigen::MatrixXd());
+      continue;
+    }
+    const Eigen::MatrixXd Jz = T.middleCols(m.attachment_seed(k), 6) * b.attachment->P_cols;
     for (std::size_t i = 0; i < b.attachment->cols.size(); ++i)
       J.col(parent.iv_el + b.attachment->cols[i]) += Jz.col(static_cast<Eigen::Index>(i));
   }
@@ -187,7 +198,17 @@ Eigen::MatrixXd momentum_jacobian(const Model& m, Data& d, const Eigen::VectorXd
     forward_kinematics<Dual>(m, base, joints, motion);
     T.middleCols(first, count) = pass.tangents(m, base, motion, count);
   }
-  return momentum_columns(m, d, T, c_v, c_q);
+  // A hinge on a manifold panel: its seeds' tangents along z' alone (momentum_columns).
+  Eigen::MatrixXd T_rate;
+  for (int k = 0; k < m.num_hinges(); ++k) {
+    if (!m.body(k).attachment || !m.body(k).attachment->manifold) continue;
+    if (!T_rate.size()) T_rate = Eigen::MatrixXd::Zero(6, nc);
+    const int seed = m.attachment_seed(k);
+    seeded_state(m, d, seed, 6, 0.0, 1.0, 0.0, base, joints);
+    forward_kinematics<Dual>(m, base, joints, motion);
+    T_rate.middleCols(seed, 6) = pass.tangents(m, base, motion, 6);
+  }
+  return momentum_columns(m, d, T, c_v, c_q, T_rate.size() ? &T_rate : nullptr);
 }
 
 }  // namespace deployfx::multibody

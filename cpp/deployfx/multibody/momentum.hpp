@@ -42,7 +42,11 @@ struct MomentumTangent {
 };
 /// c_v dPi/dv + c_q dPi/dq from the derivative passes' tangents T (6 x Model::seeds(), taken
 /// with these coefficients) and each panel's own columns in closed form, at the staged state.
-Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd& T, double c_v, double c_q);
+/// `T_rate` (6 x seeds, read in the seed columns of hinges on a manifold panel only): those
+/// seeds' tangents along z' alone (c_v = 1, c_q = 0), which the manifold's chain rule needs apart
+/// (z' = P G q' moves with q).
+Eigen::MatrixXd momentum_columns(const Model& m, Data& d, const Eigen::MatrixXd& T, double c_v, double c_q,
+                                 const Eigen::MatrixXd* T_rate = nullptr);
 /// c_v dPi/dv + c_q dPi/dq (dq along Model::retract), (6 x nv); stages the kinematics in d.
 Eigen::MatrixXd momentum_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                   double c_v, double c_q);

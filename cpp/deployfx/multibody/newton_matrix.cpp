@@ -51,6 +51,13 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
     fb = base_inertial_wrench(m, d);
     Gb = body::rigid_force_jacobian(m.spec().base.inertia, d.motion.base.w_B);
   }
+  // The attachments' generalized forces tau_z at the state (a manifold parent's block needs them).
+  Wrenches<double> Wf;
+  bool have_Wf = false;
+  auto attach_forces = [&]() -> const std::vector<Vector6<double>>& {
+    if (!have_Wf) backward_pass<double>(m, d.motion, f, Wf), have_Wf = true;
+    return Wf.attach;
+  };
   std::vector<HingeTorque> torque(N);
   for (int k = 0; k < N; ++k)
     if (m.body(k).iv_theta >= 0) torque[k] = hinge_torque(m, d, k);
@@ -78,9 +85,14 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
   Wrenches<Dual>& W = d.pass.wrenches;
   std::vector<Vector6<Dual>>& fd = d.pass.wrench;
   fd.resize(N);
-  for (int first = 0; first < nc; first += kDualDirections) {  // kDualDirections columns a pass
-    const int count = std::min(kDualDirections, nc - first);
-    seeded_state(m, d, first, count, c_q, c_v, c_a, base, joints);
+  // One derivative pass over the seeds [first, first + count) with the coefficients (cq, cv, ca):
+  // the border rows' tangents into BRo, the panels' motion tangents into T9o, the attachments'
+  // generalized forces' into TZo, the momentum's into PTo (if not null), at columns col0 + j.
+  using Tangents9 = std::vector<Eigen::Matrix<double, 9, Eigen::Dynamic>>;
+  using Tangents6 = std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>>;
+  auto pass = [&](int first, int count, double cq, double cv, double ca, Eigen::MatrixXd& BRo, Tangents9& T9o,
+                  Tangents6& TZo, Eigen::MatrixXd* PTo, int col0) {
+    seeded_state(m, d, first, count, cq, cv, ca, base, joints);
     forward_kinematics<Dual>(m, base, joints, motion);
     for (int k = 0; k < N; ++k) {
       const BodyMotion<Dual>& C = motion.body[k];
@@ -88,11 +100,11 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
       for (int j = 0; j < count; ++j) {
         const Eigen::Matrix<double, 9, 1> t9 = motion_tangent(C.a, C.al, C.w, j);
         seed(fd[k], j, Vector6<double>(G[k] * t9));
-        if (m.body(k).panel) T9[k].col(first + j) = t9;
+        if (m.body(k).panel) T9o[k].col(col0 + j) = t9;
       }
     }
     backward_pass<Dual>(m, motion, fd, W);
-    if (with_momentum) PT.middleCols(first, count) = momentum.tangents(m, base, motion, count);
+    if (PTo) PTo->middleCols(col0, count) = momentum.tangents(m, base, motion, count);
     Vector6<Dual> fbd;
     if (m.base_free()) {
       fbd = dual(fb);
@@ -102,35 +114,76 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
     }
     const Vector3<Dual> F_W = base.R_WB * fbd.head<3>();
     for (int j = 0; j < count; ++j) {
-      const int col = first + j;
+      const int col = col0 + j;
       if (m.base_free()) {
-        BR.block<3, 1>(0, col) = tangent(F_W, j);
-        BR.block<3, 1>(3, col) = tangent(Vector3<Dual>(fbd.tail<3>()), j);
+        BRo.block<3, 1>(0, col) = tangent(F_W, j);
+        BRo.block<3, 1>(3, col) = tangent(Vector3<Dual>(fbd.tail<3>()), j);
       }
       for (int k = 0; k < N; ++k) {
         const Body& b = m.body(k);
         if (b.iv_theta >= 0)
-          BR(b.iv_theta, col) = W.hinge[k].d[j] - (torque[k].d_theta * joints[k].theta.d[j] +
-                                                   torque[k].d_rate * joints[k].rate.d[j]);
-        if (b.attachment) TZ[k].col(col) = tangent(W.attach[k], j);
+          BRo(b.iv_theta, col) = W.hinge[k].d[j] - (torque[k].d_theta * joints[k].theta.d[j] +
+                                                    torque[k].d_rate * joints[k].rate.d[j]);
+        if (b.attachment) TZo[k].col(col) = tangent(W.attach[k], j);
+      }
+    }
+  };
+  for (int first = 0; first < nc; first += kDualDirections)  // kDualDirections columns a pass
+    pass(first, std::min(kDualDirections, nc - first), c_q, c_v, c_a, BR, T9, TZ, with_momentum ? &PT : nullptr, first);
+  // The elastic rows' tangents (ne x columns of T9o): each panel's dQ/d(a, al, w) T9 and the
+  // attachments' P^T TZ (on a manifold parent G^T P^T TZ).
+  auto elastic_rows = [&](const Tangents9& T9o, const Tangents6& TZo, Eigen::Index cols) {
+    Eigen::MatrixXd Yo = Eigen::MatrixXd::Zero(ne, cols);
+    for (int k : m.panels()) {
+      const Body& b = m.body(k);
+      Yo.middleRows(b.ie, b.n_el) = b.panel->projected(d.elastic[k], fj[k].Q_k) * T9o[k];
+    }
+    for (int k = 0; k < N; ++k) {
+      const Body& b = m.body(k);
+      if (!b.attachment) continue;
+      const Attachment& att = *b.attachment;
+      const Body& parent = m.body(b.parent);
+      if (att.manifold) {
+        Yo.middleRows(parent.ie, parent.n_el) += parent.panel->projected(d.elastic[b.parent], att.P.transpose() * TZo[k]);
+        continue;
+      }
+      for (std::size_t i = 0; i < att.cols.size(); ++i)
+        Yo.row(parent.ie + att.cols[i]) += att.P_cols.col(static_cast<Eigen::Index>(i)).transpose() * TZo[k];
+    }
+    return Yo;
+  };
+  const Eigen::MatrixXd Y = elastic_rows(T9, TZ, nc);
+
+  // A hinge on a manifold panel: its seeds' tangents along z' and z'' alone, [border; elastic]
+  // rows (R_rate, R_accel), for the chain rule through z = P g(q) (step 3), and the momentum's
+  // along z' (momentum_columns).
+  std::vector<Eigen::MatrixXd> R_rate(N), R_accel(N);
+  Eigen::MatrixXd PT_rate;
+  for (int k = 0; k < N; ++k) {
+    if (!m.body(k).attachment || !m.body(k).attachment->manifold) continue;
+    const int seed = m.attachment_seed(k);
+    for (int which = 0; which < 2; ++which) {
+      Eigen::MatrixXd BRo = Eigen::MatrixXd::Zero(nb, 6), PTo;
+      Tangents9 T9o(N);
+      Tangents6 TZo(N);
+      for (int j : m.panels()) T9o[j].resize(9, 6);
+      for (int j = 0; j < N; ++j)
+        if (m.body(j).attachment) TZo[j].resize(6, 6);
+      const bool rate = which == 0;
+      if (rate && with_momentum) PTo.resize(6, 6);
+      pass(seed, 6, 0.0, rate ? 1.0 : 0.0, rate ? 0.0 : 1.0, BRo, T9o, TZo, PTo.size() ? &PTo : nullptr, 0);
+      Eigen::MatrixXd R(nb + ne, 6);
+      R << BRo, elastic_rows(T9o, TZo, 6);
+      (rate ? R_rate : R_accel)[k] = std::move(R);
+      if (PTo.size()) {
+        if (!PT_rate.size()) PT_rate = Eigen::MatrixXd::Zero(6, nc);
+        PT_rate.middleCols(seed, 6) = PTo;
       }
     }
   }
-  // The elastic rows' tangents (ne x nc): each panel's dQ/d(a, al, w) T9 and the attachments' P^T TZ.
-  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(ne, nc);
-  for (int k : m.panels()) {
-    const Body& b = m.body(k);
-    Y.middleRows(b.ie, b.n_el) = b.panel->projected(d.elastic[k], fj[k].Q_k) * T9[k];
-  }
-  for (int k = 0; k < N; ++k) {
-    const Body& b = m.body(k);
-    if (!b.attachment) continue;
-    const int p = m.body(b.parent).ie;
-    for (std::size_t i = 0; i < b.attachment->cols.size(); ++i)
-      Y.row(p + b.attachment->cols[i]) += b.attachment->P_cols.col(static_cast<Eigen::Index>(i)).transpose() * TZ[k];
-  }
 
-  if (with_momentum) *momentum_jacobian = momentum_columns(m, d, PT / c_v, 1.0, c_q / c_v);
+  if (with_momentum)
+    *momentum_jacobian = momentum_columns(m, d, PT / c_v, 1.0, c_q / c_v, PT_rate.size() ? &PT_rate : nullptr);
 
   integrate::BlockMatrix S;
   S.A = BR.leftCols(nb);
@@ -144,15 +197,29 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
   Eigen::VectorXd Ev;
   if (!pattern.identity) Ev = Eigen::VectorXd::Zero(pattern.matrix.nonZeros());
 
-  // 3. The attachment columns, into the parent panel's coordinates through z = P eta.
+  // 3. The attachment columns, into the parent panel's coordinates through z = P eta (on a
+  // manifold parent through z = P g(q) by the chain rule, FlexibleBody::chain).
   for (int k = 0; k < N; ++k) {
     const Body& b = m.body(k);
     if (!b.attachment) continue;
     const Attachment& att = *b.attachment;
-    const int p = m.body(b.parent).ie;
-    const Eigen::MatrixXd Bz = BR.middleCols(m.attachment_seed(k), 6) * att.P_cols;
-    const Eigen::MatrixXd Ez = Y.middleCols(m.attachment_seed(k), 6) * att.P_cols;
-    for (std::size_t i = 0; i < att.cols.size(); ++i) S.B.col(p + att.cols[i]) += Bz.col(static_cast<Eigen::Index>(i));
+    const Body& parent = m.body(b.parent);
+    const int p = parent.ie;
+    const int seed = m.attachment_seed(k);
+    Eigen::MatrixXd Ez;
+    if (att.manifold) {
+      Eigen::MatrixXd R(nb + ne, 6);
+      R << BR.middleCols(seed, 6), Y.middleCols(seed, 6);
+      const Eigen::MatrixXd Cq = parent.panel->chain(d.elastic[b.parent], R * att.P,
+                                                     (c_q * R_rate[k] + 2.0 * c_v * R_accel[k]) * att.P,
+                                                     c_q * R_accel[k] * att.P);
+      S.B.middleCols(p, parent.n_el) += Cq.topRows(nb);
+      Ez = Cq.bottomRows(ne);
+    } else {
+      const Eigen::MatrixXd Bz = BR.middleCols(seed, 6) * att.P_cols;
+      Ez = Y.middleCols(seed, 6) * att.P_cols;
+      for (std::size_t i = 0; i < att.cols.size(); ++i) S.B.col(p + att.cols[i]) += Bz.col(static_cast<Eigen::Index>(i));
+    }
     const ElasticPattern::Coupling& cp = *pattern.couplings[k];
     for (std::size_t r = 0; r < cp.rows.size(); ++r)
       for (std::size_t j = 0; j < cp.cols.size(); ++j)
@@ -186,9 +253,13 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
     }
     S.B.middleCols(b.ie, b.n_el) += Lb * FMe;
     for (std::size_t c = 0; c < above.size(); ++c) {
-      const Attachment& att = *m.body(above[c]).attachment;
+      const Body& a = m.body(above[c]);
+      const Attachment& att = *a.attachment;
       const ElasticPattern::Coupling& cp = *pattern.couplings[above[c]];
-      const Eigen::MatrixXd Mz = att.P_cols.transpose() * (Lz[c] * FMe);
+      const Eigen::MatrixXd LzF = Lz[c] * FMe;
+      const Eigen::MatrixXd Mz = att.manifold  // G^T P^T on the parent's coordinates
+                                     ? m.body(a.parent).panel->projected(d.elastic[a.parent], att.P.transpose() * LzF)
+                                     : Eigen::MatrixXd(att.P_cols.transpose() * LzF);
       const auto first = std::lower_bound(cp.rows.begin(), cp.rows.end(), b.ie) - cp.rows.begin();
       for (Eigen::Index i = 0; i < Mz.rows(); ++i)
         for (int jj = 0; jj < b.n_el; ++jj) Ev(cp.slots_AR(i, first + jj)) += Mz(i, jj);
@@ -210,7 +281,16 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
       own.resize(block.nonzeros());
     }
     Eigen::Map<Eigen::VectorXd> vals(pattern.identity ? S.E.valuePtr() : own.data(), block.nonzeros());
-    b.panel->elastic_block(d.elastic[j], F.f.Q, C.w, C.al, c_a, c_v, c_q, vals, &d.panels[j]);
+    // On a manifold the block carries G^T's own derivative contracted with the whole force on
+    // eta, the children's attachment forces P^T tau_z among it (residual()).
+    Eigen::VectorXd Q_eta;
+    if (b.panel->manifold()) {
+      Q_eta = F.f.Q;
+      for (int k : b.children)
+        if (m.body(k).attachment) Q_eta += m.body(k).attachment->P.transpose() * attach_forces()[k];
+    }
+    b.panel->elastic_block(d.elastic[j], b.panel->manifold() ? Q_eta : F.f.Q, C.w, C.al, c_a, c_v, c_q, vals,
+                           &d.panels[j]);
     if (!pattern.identity) {
       const std::vector<int>& slots = pattern.body_slots[j];
       for (std::size_t i = 0; i < slots.size(); ++i) Ev(slots[i]) += vals(static_cast<Eigen::Index>(i));
