@@ -27,11 +27,11 @@ using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::R
 namespace {
 
 PlyFailureSetup make_setup(const std::vector<Strengths>& strengths, const std::vector<Criterion>& criteria,
-                           bool green) {
+                           const std::string& strain) {
   PlyFailureSetup setup;
   for (const Strengths& s : strengths) setup.ply_models.emplace_back(s);
   setup.criteria = criteria;
-  setup.measure = green ? StrainMeasure::Green : StrainMeasure::Linear;
+  setup.measure = strain_measure_from_name(strain);
   return setup;
 }
 
@@ -124,22 +124,23 @@ void define_stress(py::module_& m) {
         return z;
       })
       .def("fields",
-           [](const PlyRecovery& r, const Eigen::VectorXd& u, bool green) {
-             py::array_t<double> stress = field_array(r), strain = field_array(r);
+           [](const PlyRecovery& r, const Eigen::VectorXd& u, const std::string& strain) {
+             const StrainMeasure measure = strain_measure_from_name(strain);
+             py::array_t<double> stress = field_array(r), strains = field_array(r);
              double* s = stress.mutable_data();
-             double* e = strain.mutable_data();
+             double* e = strains.mutable_data();
              {
                py::gil_scoped_release release;
-               ply_fields(r, u, green ? StrainMeasure::Green : StrainMeasure::Linear, s, e);
+               ply_fields(r, u, measure, s, e);
              }
-             return py::make_tuple(stress, strain);
+             return py::make_tuple(stress, strains);
            },
-           py::arg("u"), py::arg("green"))
+           py::arg("u"), py::arg("strain"))
       .def("envelope",
            [](const PlyRecovery& r, const RowMatrix& U, const std::vector<Strengths>& strengths,
-              const std::vector<Criterion>& criteria, bool green) {
+              const std::vector<Criterion>& criteria, const std::string& strain) {
              require_columns(r, U);
-             const PlyFailureSetup setup = make_setup(strengths, criteria, green);
+             const PlyFailureSetup setup = make_setup(strengths, criteria, strain);
              PlyEnvelope env = empty_envelope(r, setup);
              in_batches(static_cast<int>(U.rows()), [&](int first, int count) {
                accumulate_envelope(r, setup, U.data() + static_cast<std::ptrdiff_t>(first) * U.cols(), count,
@@ -162,12 +163,12 @@ void define_stress(py::module_& m) {
              out["peak"] = peak;
              return out;
            },
-           py::arg("u_series"), py::arg("strengths"), py::arg("criteria"), py::arg("green"))
+           py::arg("u_series"), py::arg("strengths"), py::arg("criteria"), py::arg("strain"))
       .def("index_series",
            [](const PlyRecovery& r, const RowMatrix& U, const std::vector<Strengths>& strengths,
-              const std::vector<Criterion>& criteria, bool green, const std::vector<int>& elements) {
+              const std::vector<Criterion>& criteria, const std::string& strain, const std::vector<int>& elements) {
              require_columns(r, U);
-             const PlyFailureSetup setup = make_setup(strengths, criteria, green);
+             const PlyFailureSetup setup = make_setup(strengths, criteria, strain);
              check_setup(r, setup);
              const int n = static_cast<int>(U.rows());
              py::array_t<double> out(std::vector<py::ssize_t>{n, static_cast<py::ssize_t>(criteria.size()),
@@ -182,6 +183,6 @@ void define_stress(py::module_& m) {
              });
              return out;
            },
-           py::arg("u_series"), py::arg("strengths"), py::arg("criteria"), py::arg("green"),
+           py::arg("u_series"), py::arg("strengths"), py::arg("criteria"), py::arg("strain"),
            py::arg("elements"));
 }

@@ -7,7 +7,8 @@ vector ``u`` (ndof,) or a series ``u_series`` (n, ndof).
 
 - Strains are recovered with the element's own interpolation, including its MITC4 transverse
   shear: linear, or with the Green membrane strain of You et al. (2016) Eq. 14
-  (``strain="green"``, for the nonlinear fidelities), at each element's centroid
+  (``strain="green"``, for the nonlinear fidelities), or von Karman's (``strain="von-karman"``:
+  the quadratic terms of the normal displacement alone, for "reduced-manifold"), at each element's centroid
   (``where="centroid"``, one point) or at its 2x2 Gauss points (``where="gauss"``, four points in
   the element's order (-g, -g), (g, -g), (g, g), (-g, g), g = 1/sqrt(3)).
 - Each ply is sampled at three stations through its thickness: bottom, middle, top.
@@ -42,7 +43,7 @@ STRAIN_COMPONENTS = ("eps_1", "eps_2", "gamma_12", "gamma_13", "gamma_23")
 #: The failure criteria: maximum stress, Tsai-Wu, Hashin's fibre and matrix modes ("hashin"
 #: names both).
 CRITERIA = ("max_stress", "tsai_wu", "hashin_fibre", "hashin_matrix")
-_STRAINS = ("linear", "green")
+_STRAINS = ("linear", "green", "von-karman")
 _WHERE = ("centroid", "gauss")
 _STATIONS = ("bottom", "middle", "top")
 
@@ -63,7 +64,7 @@ class PlyStresses:
         shell's axes).
     angles_deg : (plies,) each ply's fibre angle, degrees, bottom first.
     where : "centroid" or "gauss".
-    strain_measure : "linear" or "green".
+    strain_measure : "linear", "green" or "von-karman".
     time_s : the sample's time, s (None for a lone displacement vector).
     """
 
@@ -163,13 +164,16 @@ class StressEnvelope:
 def ply_stresses(shell: ShellModel, u: object, *, strain: str = "linear",
                  where: str = "centroid") -> PlyStresses:
     """Stresses and strains of every ply of every element for the mesh displacements ``u``
-    (ndof,), in each ply's material axes. ``strain``: "linear", or "green" (the Green membrane
+    (ndof,), in each ply's material axes. ``strain``: "linear", "green" (the Green membrane
     strain of You et al. 2016 Eq. 14, for the nonlinear fidelities; the stresses are then second
-    Piola-Kirchhoff). ``where``: "centroid" or "gauss" (see the module docstring)."""
+    Piola-Kirchhoff) or "von-karman" (its quadratic terms of the normal displacement w alone,
+    1/2 (w_x^2, w_y^2, 2 w_x w_y) in the element's axes: the strain whose energy the
+    reduced-manifold fidelity condenses). ``where``: "centroid" or "gauss" (see the module
+    docstring)."""
     shell = _shell(shell)
     rec = _recovery(shell, where)
     u = _float_array("u", u, (shell.num_dofs,))
-    stress, strain_arr = rec.fields(u, _green(strain))
+    stress, strain_arr = rec.fields(u, _strain(strain))
     return _ply_stresses(shell, rec, stress, strain_arr, where, strain, None)
 
 
@@ -237,7 +241,7 @@ def envelope(shell: ShellModel, strengths: StrengthsArg, t: object, u_series: ob
     """
     shell = _shell(shell)
     rec = _recovery(shell, where)
-    green = _green(strain)
+    measure = _strain(strain)
     t = _float_array("t", t, (None,))
     U = _float_array("u_series", u_series, (t.shape[0], shell.num_dofs))
     per_ply = _strengths_list(strengths, rec.num_plies)
@@ -252,13 +256,13 @@ def envelope(shell: ShellModel, strengths: StrengthsArg, t: object, u_series: ob
         names = list(dict.fromkeys(names))
     crits = [getattr(_core.FailureCriterion, n) for n in names]
     impls = [s._impl for s in per_ply]
-    env = rec.envelope(U, impls, crits, green)
+    env = rec.envelope(U, impls, crits, measure)
     index = env["index"]
     c, e, k = np.unravel_index(int(np.argmax(index)), index.shape)
     sample = env["sample"]
     k_star = int(sample[c, e, k])
-    history = rec.index_series(U, impls, [crits[c]], green, [int(e)])[:, 0, 0, k]
-    field_ = rec.index_series(U[k_star:k_star + 1], impls, [crits[c]], green,
+    history = rec.index_series(U, impls, [crits[c]], measure, [int(e)])[:, 0, 0, k]
+    field_ = rec.index_series(U[k_star:k_star + 1], impls, [crits[c]], measure,
                               list(range(rec.num_elements)))[0, 0, :, k]
     fi = float(index[c, e, k])
     impacts = np.zeros(0) if impact_times is None else _float_array(
@@ -287,11 +291,11 @@ def fields_at(shell: ShellModel, t: object, u_series: object, times: object, *,
         raise ValueError(f"times = {bad.tolist()} is out of range: must be within the samples' "
                          f"[{t.min():g}, {t.max():g}] s")
     rec = _recovery(shell, where)
-    green = _green(strain)
+    measure = _strain(strain)
     out = []
     for time in times:
         i = int(np.argmin(np.abs(t - time)))
-        stress, strain_arr = rec.fields(U[i], green)
+        stress, strain_arr = rec.fields(U[i], measure)
         out.append(_ply_stresses(shell, rec, stress, strain_arr, where, strain, float(t[i])))
     return out
 
@@ -338,21 +342,17 @@ def shear_distribution(laminate: Laminate, z: object) -> np.ndarray:
 
 def strain_measure(fidelity: str) -> str:
     """The strain a fidelity's internal force uses: "green" for "nonlinear" and
-    "reduced-nonlinear" (You et al. 2016 Eq. 14), "linear" for "linear" and "reduced-linear".
-    A rigid appendage has no stresses (ValueError).
+    "reduced-nonlinear" (You et al. 2016 Eq. 14), "linear" for "linear" and "reduced-linear",
+    "von-karman" for "reduced-manifold". A rigid appendage has no stresses (ValueError).
 
-    "reduced-manifold" has none yet (ValueError): its energy is Green strain without the in-plane
-    displacements' own quadratic terms (docs/research/quadratic-manifold.md, "poly"), which
-    neither measure here is. Green strain of its mesh displacements adds those terms back, about
-    the foreshortening's (w_x^2/2)^2/2, as tension: on the paper scene (6 x 4, node E at
-    0.41 m) 196 MPa of peak fibre stress where the reduced-nonlinear run of the same motion has
-    52 MPa; linear strain leaves out w_x^2/2 itself (8 GPa)."""
-    if fidelity == "reduced-manifold":
-        raise ValueError("fidelity = 'reduced-manifold' has no ply stresses yet: its strain (Green strain "
-                         "without the in-plane displacements' own quadratic terms) is neither 'green' nor "
-                         "'linear' (deployfx.stress.strain_measure); use 'reduced-nonlinear' for stresses")
+    The manifold's energy is Green strain without the in-plane displacements' own quadratic
+    terms (docs/research/quadratic-manifold.md, "poly"): on its flat panel, whose bending vectors
+    move w alone and in-plane vectors u, v alone, that is von Karman's strain. Green strain of its
+    mesh displacements would add those terms back, about the foreshortening's (w_x^2/2)^2/2, as
+    tension: on the paper scene (6 x 4, node E at 0.41 m) 196 MPa of peak fibre stress where the
+    reduced-nonlinear run of the same motion has 52 MPa."""
     measures = {"nonlinear": "green", "reduced-nonlinear": "green", "linear": "linear",
-                "reduced-linear": "linear"}
+                "reduced-linear": "linear", "reduced-manifold": "von-karman"}
     if fidelity not in measures:
         raise ValueError(f"fidelity = {fidelity!r} has no ply stresses: must be one of "
                          f"{', '.join(measures)}")
@@ -376,10 +376,10 @@ def _recovery(shell: ShellModel, where: str) -> "_core.PlyRecovery":
     return _core.PlyRecovery(shell._impl, shell.laminate._impl, where == "gauss")
 
 
-def _green(strain: str) -> bool:
+def _strain(strain: str) -> str:
     if strain not in _STRAINS:
         raise ValueError(f"strain = {strain!r} is invalid: must be one of {', '.join(_STRAINS)}")
-    return strain == "green"
+    return strain
 
 
 def _criteria(name: object) -> tuple:

@@ -84,6 +84,13 @@ PlyRecovery make_ply_recovery(const ShellModel& model, const material::Laminate&
   return r;
 }
 
+StrainMeasure strain_measure_from_name(const std::string& value) {
+  if (value == "linear") return StrainMeasure::Linear;
+  if (value == "green") return StrainMeasure::Green;
+  if (value == "von-karman") return StrainMeasure::VonKarman;
+  throw std::invalid_argument("strain = '" + value + "' is invalid: must be 'linear', 'green' or 'von-karman'");
+}
+
 SectionState section_state(const PlyRecovery& r, const double* u, int e, int p, StrainMeasure measure) {
   Eigen::Matrix<double, kElementDofs, 1> d;
   for (int a = 0; a < 4; ++a)
@@ -97,6 +104,12 @@ SectionState section_state(const PlyRecovery& r, const double* u, int e, int p, 
     s(0) += 0.5 * px.squaredNorm();
     s(1) += 0.5 * py.squaredNorm();
     s(2) += px.dot(py);
+  } else if (measure == StrainMeasure::VonKarman) {  // the normal displacement's gradient alone (E's z)
+    const Eigen::Matrix<double, 6, 1> psi = op.bottomRows<6>() * d;
+    const double wx = psi(2), wy = psi(5);
+    s(0) += 0.5 * wx * wx;
+    s(1) += 0.5 * wy * wy;
+    s(2) += wx * wy;
   }
   return s;
 }

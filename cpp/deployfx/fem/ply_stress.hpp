@@ -5,7 +5,11 @@
 //
 // At a sampling point, in the element frame E (x along the projected laminate reference axis):
 // - membrane strain eps0 = Bm d, plus for StrainMeasure::Green the quadratic terms of the
-//   paper's Eq. 14, 1/2 (|Psi_x|^2, |Psi_y|^2, 2 Psi_x.Psi_y); curvature kappa = Bb d; the shear
+//   paper's Eq. 14, 1/2 (|Psi_x|^2, |Psi_y|^2, 2 Psi_x.Psi_y), for StrainMeasure::VonKarman those
+//   of the normal displacement w alone, 1/2 (w_x^2, w_y^2, 2 w_x w_y) (von Karman's plate strain:
+//   the strain whose energy the reduced-manifold fidelity condenses, Green strain without the
+//   in-plane displacements' own quadratic terms; docs/research/quadratic-manifold.md, section 3);
+//   curvature kappa = Bb d; the shear
 //   resultants Q = As Bs d from the MITC4 assumed shear strains (Bathe & Dvorkin 1985);
 // - in ply k at height z: (eps_1, eps_2, gamma_12) = T_k (eps0 + z kappa), (sigma_1, sigma_2,
 //   tau_12) = Q_k T_k (eps0 + z kappa) (classical lamination theory; Jones 1999, Sec. 4.2; Reddy
@@ -19,6 +23,7 @@
 // integrates the ply's stress resultants exactly.
 #include <Eigen/Core>
 #include <array>
+#include <string>
 #include <vector>
 
 #include "deployfx/fem/shell_model.hpp"
@@ -27,7 +32,10 @@
 
 namespace deployfx::fem {
 
-enum class StrainMeasure { Linear, Green };
+enum class StrainMeasure { Linear, Green, VonKarman };
+/// The measure named "linear", "green" or "von-karman"; std::invalid_argument naming `strain` and
+/// the allowed values otherwise.
+StrainMeasure strain_measure_from_name(const std::string& value);
 /// Centroid: one point per element, (xi, eta) = (0, 0). Gauss: the stiffness's 2x2 points, in the
 /// element's order (-g, -g), (g, -g), (g, g), (-g, g), g = 1/sqrt(3).
 enum class Sampling { Centroid, Gauss };
