@@ -270,6 +270,20 @@ def spinning_panel_with_a_child(fidelity="reduced-linear"):
     return scene.compile(), shell, root, (m, com, J)
 
 
+def assert_child_frame_on_the_node(model, shell, q, node, u, psi):
+    """The child hinge's origin and axes in W (the engine's frames()) equal those placed from the
+    parent's frame and the attachment node's displacement u and rotation psi:
+    o = o_0 + R_W0 (X + u + exp(psi~) (point - X)), R_W1 = R_W0 exp(psi~) Rot(y, theta_1) R_PE0
+    (1e-12)."""
+    R, o = model.frames(q)
+    R_W0, o_0, R_W1, o_1 = R[0, 0], o[0, 0], R[0, 1], o[0, 1]
+    R_att = Rotation.from_rotvec(psi).as_matrix()
+    X = shell.nodes[node]
+    np.testing.assert_allclose(o_1, o_0 + R_W0 @ (X + u + R_att @ (CHILD_POINT - X)), rtol=0, atol=1e-12)
+    expected = R_W0 @ R_att @ Rotation.from_rotvec(q[1] * Y).as_matrix() @ Ry(-np.pi / 2)
+    np.testing.assert_allclose(R_W1, expected, rtol=0, atol=1e-12)
+
+
 def static_reference(shell, root, child, node, omega, theta1):
     """The panel's static deflection (all mesh dofs, m and rad) in its frame E_0 turning steadily at
     `omega` (rad/s, E_0 axes, the axis through E_0's origin), by a full finite-element solve with
@@ -333,13 +347,7 @@ def test_child_hinge_rides_on_the_loaded_parent_panel():
     d = (q[start:start + n] @ model.core.displacement_map(0).T).reshape(-1, 6)[node]
     u, psi = d[:3], d[3:]
     np.testing.assert_allclose(u, model.node_displacements(q, 0)[0, node], rtol=1e-14, atol=0)
-    R, o = model.frames(q)
-    R_W0, o_0, R_W1, o_1 = R[0, 0], o[0, 0], R[0, 1], o[0, 1]
-    R_att = Rotation.from_rotvec(psi).as_matrix()
-    X = shell.nodes[node]
-    np.testing.assert_allclose(o_1, o_0 + R_W0 @ (X + u + R_att @ (CHILD_POINT - X)), rtol=0, atol=1e-12)
-    expected = R_W0 @ R_att @ Rotation.from_rotvec(q[1] * Y).as_matrix() @ Ry(-np.pi / 2)
-    np.testing.assert_allclose(R_W1, expected, rtol=0, atol=1e-12)
+    assert_child_frame_on_the_node(model, shell, q, node, u, psi)
 
     rate = np.radians(r.deployment_rate[-1])  # rad/s
     assert abs(rate[0] - OMEGA) < 1e-3 and abs(rate[1]) < 1e-5  # settled spin
@@ -434,13 +442,7 @@ def test_child_hinge_rides_on_a_manifold_panel():
         d = (eta @ model.core.displacement_map(0).T).reshape(-1, 6)[node]
         u, psi = d[:3], d[3:]
         np.testing.assert_allclose(u, settled[fidelity], rtol=1e-14, atol=0)
-        R, o = model.frames(q)
-        R_W0, o_0, R_W1, o_1 = R[0, 0], o[0, 0], R[0, 1], o[0, 1]
-        R_att = Rotation.from_rotvec(psi).as_matrix()
-        X = shell.nodes[node]
-        np.testing.assert_allclose(o_1, o_0 + R_W0 @ (X + u + R_att @ (CHILD_POINT - X)), rtol=0, atol=1e-12)
-        expected = R_W0 @ R_att @ Rotation.from_rotvec(q[1] * Y).as_matrix() @ Ry(-np.pi / 2)
-        np.testing.assert_allclose(R_W1, expected, rtol=0, atol=1e-12)
+        assert_child_frame_on_the_node(model, shell, q, node, u, psi)
     u, ref = settled["reduced-manifold"], settled["reduced-nonlinear"]
     assert abs(ref[2]) > 1e-3 and abs(ref[0]) > 1e-6  # bent, and pulled in
     assert abs(u[2] - ref[2]) <= 1e-5 * abs(ref[2])
