@@ -9,8 +9,8 @@
 //   of the normal displacement w alone, 1/2 (w_x^2, w_y^2, 2 w_x w_y) (von Karman's plate strain:
 //   the strain whose energy the reduced-manifold fidelity condenses, Green strain without the
 //   in-plane displacements' own quadratic terms; docs/research/quadratic-manifold.md, section 3);
-//   curvature kappa = Bb d; the shear
-//   resultants Q = As Bs d from the MITC4 assumed shear strains (Bathe & Dvorkin 1985);
+//   curvature kappa = Bb d; the shear resultants Q = As Bs d from the MITC4 assumed shear strains
+//   (Bathe & Dvorkin 1985);
 // - in ply k at height z: (eps_1, eps_2, gamma_12) = T_k (eps0 + z kappa), (sigma_1, sigma_2,
 //   tau_12) = Q_k T_k (eps0 + z kappa) (classical lamination theory; Jones 1999, Sec. 4.2; Reddy
 //   2004, Sec. 3.3); with Green strains these are second Piola-Kirchhoff stresses;
