@@ -40,8 +40,8 @@ HINGE = st.fixed_dictionaries({
     "tau0": fs.number(0.0, 20.0, log=False), "k_theta": fs.number(0.0, 10.0, log=False),
     "c_theta": fs.number(0.0, 1.0, log=False), "fitting_inertia": fs.number(1e-3, 1.0)})
 FIDELITIES = fs._mostly(st.sampled_from(["rigid", "linear", "nonlinear", "reduced-linear",
-                                         "reduced-nonlinear"]), st.one_of(st.text(max_size=4),
-                                                                          fs.WRONG))
+                                         "reduced-nonlinear", "reduced-manifold"]),
+                        st.one_of(st.text(max_size=4), fs.WRONG))
 APPENDAGE = fs._mostly(st.fixed_dictionaries({
     "nx": st.integers(1, 2),
     "fixed": st.one_of(st.just("root"), st.just("root"), st.just("root"),

@@ -291,6 +291,9 @@ def test_both_locks_latch_and_hold_the_deployed_array():
     # a fitting inertia of 1.8e308 overflowed the mass matrix (a fuzz case): refused, with the range
     (lambda h: h.update(body=(1e51, np.zeros(3), np.eye(3))), "hinges[1].body.mass = 1e.51 is out of range.*<= 1e50"),
     (lambda h: h.update(body=(1.0, np.zeros(3), 1e60 * np.eye(3))), "hinges[1].body.inertia must have entries within 1e50"),
+    # a preload of -1.8e308 N m overflowed the first residual (a fuzz case): refused, with the range
+    (lambda h: h.update(tau0=-1.7976931348623157e308), r"hinges[1].tau0 = -1.797693135e\+308 is out of range: must be finite and within"),
+    (lambda h: h.update(k=1e60), r"hinges[1].k_theta = 1e\+60 is out of range: must be finite and >= 0, at most 1e50"),
 ])
 def test_bad_hinge_specs_raise_value_error_naming_them(change, name):
     # (A massless leaf body is refused by Scene.compile, "carries no body": test_scene_chain_errors.)
@@ -429,6 +432,10 @@ def test_scene_chain_errors_name_the_parameter():
         scene.add_hinge(0, point=(1.04, 0, 0), axis=(0, 1, 0), fitting_inertia=1.7976931348623157e308)
     with pytest.raises(ValueError, match=r"hinges\[1\].fitting.mass = 1e\+60 is out of range: must be finite, >= 0 and <= 1e50"):
         scene.add_hinge(0, point=(1.04, 0, 0), axis=(0, 1, 0), fitting_mass=1e60)
+    # And a preload of -1.8e308 N m, which overflowed the first residual.
+    with pytest.raises(ValueError, match=r"hinges\[1\].tau0 = -1.7976931348623157e\+308 is out of range: "
+                                         r"must be finite and within \[-1e50, 1e50\] \(N m\)"):
+        scene.add_hinge(0, point=(1.04, 0, 0), axis=(0, 1, 0), tau0=-1.7976931348623157e308)
     with pytest.raises(ValueError, match=r"appendage.hinge = 4 is out of range: must be in \[0, 0\]"):
         scene.set_appendage(shell, root, fidelity="rigid", hinge=4)
     with pytest.raises(ValueError, match=r"part.body = 'yoke' is invalid"):

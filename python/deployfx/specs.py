@@ -221,12 +221,14 @@ class Hinge:
         if np.abs(R.T @ R - np.eye(3)).max() > 1e-9 or np.linalg.det(R) < 0:
             raise ValueError(f"{name}.{R_name} must be a rotation matrix")
         values = {}
+        # At most 1e50 in size, as the rigid parts (_MAX_RIGID): a preload of -1.8e308 N m (a fuzz
+        # case) overflowed the first residual.
         for key, value, low in (("tau0", tau0, None), ("k_theta", k_theta, 0.0), ("c_theta", c_theta, 0.0)):
             v = as_float(f"{name}.{key}", value)
-            if not np.isfinite(v) or (low is not None and v < low):
+            if not (np.isfinite(v) and abs(v) <= _MAX_RIGID) or (low is not None and v < low):
                 unit = {"tau0": "N m", "k_theta": "N m/rad", "c_theta": "N m s/rad"}[key]
                 raise ValueError(f"{name}.{key} = {v} is out of range: must be finite"
-                                 f"{'' if low is None else ' and >= 0'} ({unit})")
+                                 f"{' and within [-1e50, 1e50]' if low is None else ' and >= 0, at most 1e50'} ({unit})")
             values[key] = v
         if spin_up is not None and not isinstance(spin_up, SpinUp):
             try:

@@ -63,11 +63,14 @@ void check_hinge(const std::string& name, const HingeSpec& h, int k) {
   const Eigen::Matrix3d& R = h.R_PC0;
   if (!R.allFinite() || (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-9 || R.determinant() < 0)
     throw std::invalid_argument(name + ".R_PC0 must be a rotation matrix");
-  require_finite(name + ".tau0", h.tau0, "(N m)");
-  if (!(h.k_theta >= 0 && std::isfinite(h.k_theta)))
-    throw_out_of_range(name + ".k_theta", h.k_theta, "finite and >= 0 (N m/rad)");
-  if (!(h.c_theta >= 0 && std::isfinite(h.c_theta)))
-    throw_out_of_range(name + ".c_theta", h.c_theta, "finite and >= 0 (N m s/rad)");
+  // At most kMaxMagnitude in size, as the rigid parts (check_rigid_inertia): a preload of
+  // -1.8e308 N m (a fuzz case) overflowed the first residual ("the mass matrix is singular").
+  if (!(std::abs(h.tau0) <= kMaxMagnitude))
+    throw_out_of_range(name + ".tau0", h.tau0, "finite and within [-1e50, 1e50] (N m)");
+  if (!(h.k_theta >= 0 && h.k_theta <= kMaxMagnitude))
+    throw_out_of_range(name + ".k_theta", h.k_theta, "finite and >= 0, at most 1e50 (N m/rad)");
+  if (!(h.c_theta >= 0 && h.c_theta <= kMaxMagnitude))
+    throw_out_of_range(name + ".c_theta", h.c_theta, "finite and >= 0, at most 1e50 (N m s/rad)");
   if (h.driver) {
     require_positive(name + ".spin_up.t_s", h.driver->t_s, "(s)");
     require_finite(name + ".spin_up.omega_s", h.driver->omega_s, "(rad/s)");
