@@ -411,6 +411,19 @@ def test_scene_chain_with_a_full_finite_element_panel_runs_and_conserves_momentu
     assert np.all(r.deployment_angle[-1] > 1.0)
 
 
+def test_a_motion_without_inertia_is_refused_at_the_start():
+    """A fuzz case: a free base of 1e-100 kg m^2 under a hinge whose fitting alone has inertia
+    (1 kg m^2, no mass). About the hinge axis the base's turn and the hinge angle have the mass
+    matrix [[J_b + J_f, J_f], [J_f, J_f]], of determinant J_b J_f: singular to working precision
+    when J_b / J_f is below the doubles' 2.2e-16. A ValueError that says what to look for, not a
+    failed run (with J_b = 1e-10 the matrix factorizes and the run is the scene's to judge)."""
+    scene = (dfx.Scene().set_base(215.5, 1e-100)
+             .set_hinge(point=(0.0, 0.06, 0.6), axis=(0, 1, 0), k_theta=9.6, c_theta=0.8, fitting_inertia=1.0))
+    with pytest.raises(ValueError, match=r"the mass matrix is singular at t = 0.* to working precision: a motion the "
+                                         r"hinges allow carries no inertia"):
+        scene.compile().simulate(0.02, 0.01)
+
+
 def test_scene_chain_errors_name_the_parameter():
     shell, root = panel()
     scene = dfx.Scene().set_base(10.0, 1.0)

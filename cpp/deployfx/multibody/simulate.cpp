@@ -50,8 +50,23 @@ RunResult simulate(const Model& m, Data& d, const Eigen::VectorXd& q0, const Eig
       };
   }
   RunResult out;
-  out.trajectory = integrate::run(integrator, resume ? resume->driver.state : integrator.initial_state(0.0, q0, v0),
-                                  options.t_end, options.dt, control, record, poll, checkpoints ? &points : nullptr);
+  integrate::AlphaState start;
+  if (resume) {
+    start = resume->driver.state;
+  } else {
+    // No consistent start: the model, not the run, is at fault (a fuzz case: a free base of
+    // 1e-100 kg m^2 under a hinge whose fitting alone has inertia), so a ValueError that says what
+    // to look for rather than a failed run.
+    try {
+      start = integrator.initial_state(0.0, q0, v0);
+    } catch (const integrate::StepFailure& e) {
+      throw std::invalid_argument(std::string(e.what()) +
+                                  " to working precision: a motion the hinges allow carries no inertia against the "
+                                  "rest (a massless body, or a base or hinge fitting whose inertia is negligible)");
+    }
+  }
+  out.trajectory = integrate::run(integrator, std::move(start), options.t_end, options.dt, control, record, poll,
+                                  checkpoints ? &points : nullptr);
   out.factorizations = integrator.factorizations();
   return out;
 }
