@@ -53,3 +53,31 @@ def test_negative_damping_is_rejected():
         scene.set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity="linear", damping=(0.0, -1e-3))
     with pytest.raises(ValueError, match="alpha_M"):
         scene.set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity="linear", damping=(-0.1, 0.0))
+
+
+@pytest.mark.parametrize("rate", [5e-324, 1e-300, 1e-3])
+def test_green_strain_damping_is_continuous_down_to_denormal_rates(rate):
+    """beta_K K_T(d) d' of Green strain is a central difference of the internal force along d'
+    (body/flexible_body.cpp). Its step was once 1e-6 / |d'|, infinite for a denormal rate (a fuzz
+    case: 'u has non-finite entries' from inside a run). Reference: linearity in d' at a bent
+    state, the residual's damping part r(d') - r(0) = beta_K K_T d', against the rate's
+    1e-3 m/s value scaled down: within 1e-6 relative for 1e-300, and the denormal rate's within
+    its own round-off (the force is 0 there, as for d' = 0)."""
+    strip = scenes.spin_up_strip(4)
+    model = (dfx.Scene().set_base(1.0, 1.0, free=False)
+             .set_hinge(point=(0, 0, 0), axis=(0, 1, 0), k_theta=1.0, fitting_inertia=0.1)
+             .set_appendage(strip.model, strip.fixed_dofs("CFFF"), fidelity="nonlinear", damping=(0.0, 1e-3))
+             .compile())
+    core = model.core
+    n, nq = core.num_velocities, core.num_positions
+    rng = np.random.default_rng(0)
+    q = core.initial_positions()
+    q[nq - (n - 1):] = 1e-2 * rng.normal(size=n - 1)  # bent (elastic dofs after theta)
+    direction = np.zeros(n)
+    direction[1:] = rng.normal(size=n - 1)
+    a = np.zeros(n)
+    r0 = core.residual(q, np.zeros(n), a, 0.0)
+    unit = (core.residual(q, 1e-3 * direction, a, 0.0) - r0) / 1e-3  # beta_K K_T along the direction
+    got = core.residual(q, rate * direction, a, 0.0) - r0
+    assert np.all(np.isfinite(got))
+    np.testing.assert_allclose(got, rate * unit, rtol=0, atol=1e-6 * rate * np.abs(unit).max() + 1e-12 * np.abs(r0).max())

@@ -312,11 +312,14 @@ void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::Ve
   if (spec_.fidelity == Fidelity::kNonlinear) {
     const double speed = dd.lpNorm<Eigen::Infinity>();
     if (spec_.beta_K > 0 && speed > 0) {  // K_T(d) d' by a central difference of f_int along d'
-      const double eps = 1e-6 / speed;
+      // Along the unit direction d' / |d'|, then scaled: a step 1e-6 / |d'| overflows for a
+      // denormal |d'| (a fuzz case: inf * 0 in d).
+      const Eigen::VectorXd step = 1e-6 * (dd / speed);
       Eigen::VectorXd fp, fm;
-      spec_.model->internal_force(d + eps * dd, &fp, nullptr);
-      spec_.model->internal_force(d - eps * dd, &fm, nullptr);
-      for (int i = 0; i < n; ++i) r(i) += spec_.beta_K * (fp(free_[i]) - fm(free_[i])) / (2 * eps);
+      spec_.model->internal_force(d + step, &fp, nullptr);
+      spec_.model->internal_force(d - step, &fm, nullptr);
+      const double scale = spec_.beta_K * speed / 2e-6;
+      for (int i = 0; i < n; ++i) r(i) += scale * (fp(free_[i]) - fm(free_[i]));
     }
   } else if (spec_.beta_K > 0) {
     r += spec_.beta_K * (K_free_ * v_el);

@@ -142,6 +142,9 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const Eigen::VectorXd v1 = s.v + h * ((1 - gamma) * s.a + gamma * a1);
     Eigen::VectorXd ve = vdot;  // the accelerations in the equations of motion
     ve.head(nc) = w;
+    // An iterate that left the doubles (an increment that overflowed in the update) fails the
+    // step, to be retried smaller, before the system's own input checks see it.
+    if (!q1.allFinite() || !v1.allFinite() || !ve.allFinite()) throw fail("the iterate is not finite");
     // The predictor's residual, or the one the last relaxation left (relax_slaved).
     const Eigen::VectorXd r = r_start.size() ? Eigen::VectorXd(std::move(r_start)) : sys_.residual(q1, v1, ve, t1);
     r_start.resize(0);
@@ -242,9 +245,12 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const bool stalled = fresh && stalling;
     if (error <= newton_.tolerance * scale || stalled) {
       const Eigen::VectorXd a_new = a_of(vdot);
-      s.q = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a_new));
-      s.v += h * ((1 - gamma) * s.a + gamma * a_new);
-      if (nc) polish_momentum(s.q, s.v, t1, Pi_n);
+      Eigen::VectorXd q_new = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a_new));
+      Eigen::VectorXd v_new = s.v + h * ((1 - gamma) * s.a + gamma * a_new);
+      if (!q_new.allFinite() || !v_new.allFinite()) throw fail("the converged state is not finite");
+      if (nc) polish_momentum(q_new, v_new, t1, Pi_n);
+      s.q = std::move(q_new);
+      s.v = std::move(v_new);
       s.vdot_prev = std::move(s.vdot);
       s.h_prev = h;
       s.vdot = vdot;
@@ -303,6 +309,15 @@ Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Ei
     const Eigen::VectorXd v1 = s.v + h * ((1 - gamma) * s.a + gamma * a1);
     Eigen::VectorXd ve = vdot;
     ve.head(nc) = w;
+    if (!q1.allFinite() || !v1.allFinite() || !ve.allFinite()) {  // a sweep that overflowed: undo it
+      if (sweep == 0) {
+        factor_h_ = slaved_h_ = -1;
+        throw StepFailure("Newton failed at t = " + std::to_string(t1) + " s (step " + std::to_string(h) +
+                          " s): the iterate is not finite");
+      }
+      vdot = std::move(vdot_before);
+      return r_before;
+    }
     r = sys_.residual(q1, v1, ve, t1);
     Eigen::VectorXd rs(slaved_.size());  // the slaved rows; r's other rows' largest entry below
     for (std::size_t i = 0; i < slaved_.size(); ++i) rs(i) = r(slaved_[i]), r(slaved_[i]) = 0.0;
