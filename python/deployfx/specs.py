@@ -38,8 +38,8 @@ class Fidelity(str, enum.Enum):
     section 3). The mesh moves by ``basis @ eta`` (:meth:`deployfx.Model.panel_coordinates`).
     Only for a flat panel with a mirror-symmetric laminate, whose basis splits into bending and
     in-plane vectors (ValueError otherwise); a hinge on it rides on the lifted mesh. It keeps the
-    centrifugal stiffening of a spinning panel: the centrifugal load on the slaved in-plane coordinates
-    reaches the bending rows through ``G^T`` and its derivative (Kane's spin-up beam at 4-10 rad/s,
+    centrifugal stiffening of a spinning panel: the centrifugal load on the slaved in-plane
+    coordinates reaches the bending rows through ``G^T`` and its derivative (Kane's spin-up beam at 4-10 rad/s,
     above the first bending frequency, within 0.2 % of the full nonlinear model:
     tests/test_spin_up_beam.py). Its ply stresses take von Karman's strain
     (:func:`deployfx.stress.strain_measure`)."""
@@ -129,8 +129,8 @@ class RigidPart:
     def make(name: str, mass: float, com, inertia) -> "RigidPart":
         """A checked part: mass (kg, in [0, 1e50]), centre of mass (m, 3) and inertia about it
         (kg m^2, 3 x 3 symmetric positive semidefinite with entries within 1e50, or a scalar times
-        identity); TypeError or
-        ValueError naming ``<name>.mass``, ``<name>.com`` or ``<name>.inertia`` otherwise."""
+        identity); TypeError or ValueError naming ``<name>.mass``, ``<name>.com`` or
+        ``<name>.inertia`` otherwise."""
         m = as_float(f"{name}.mass", mass)
         if not (np.isfinite(m) and 0 <= m <= _MAX_RIGID):
             raise ValueError(f"{name}.mass = {m} is out of range: must be finite, >= 0 and <= 1e50 (kg)")

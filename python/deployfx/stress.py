@@ -8,9 +8,10 @@ vector ``u`` (ndof,) or a series ``u_series`` (n, ndof).
 - Strains are recovered with the element's own interpolation, including its MITC4 transverse
   shear: linear, or with the Green membrane strain of You et al. (2016) Eq. 14
   (``strain="green"``, for the nonlinear fidelities), or von Karman's (``strain="von-karman"``:
-  the quadratic terms of the normal displacement alone, for "reduced-manifold"), at each element's centroid
-  (``where="centroid"``, one point) or at its 2x2 Gauss points (``where="gauss"``, four points in
-  the element's order (-g, -g), (g, -g), (g, g), (-g, g), g = 1/sqrt(3)).
+  the quadratic terms of the normal displacement alone, for "reduced-manifold"), at each
+  element's centroid (``where="centroid"``, one point) or at its 2x2 Gauss points
+  (``where="gauss"``, four points in the element's order (-g, -g), (g, -g), (g, g), (-g, g),
+  g = 1/sqrt(3)).
 - Each ply is sampled at three stations through its thickness: bottom, middle, top.
 - Components, in each ply's material axes (1 along the fibres): ``sigma_1, sigma_2, tau_12,
   tau_13, tau_23`` (Pa) and strains ``eps_1, eps_2, gamma_12, gamma_13, gamma_23``. The in-plane
