@@ -39,8 +39,8 @@ class Fidelity(str, enum.Enum):
     Only for a flat panel with a mirror-symmetric laminate, whose basis splits into bending and
     in-plane vectors (ValueError otherwise); a hinge on it rides on the lifted mesh. It keeps the
     centrifugal stiffening of a spinning panel: the centrifugal load on the slaved in-plane
-    coordinates reaches the bending rows through ``G^T`` and its derivative (Kane's spin-up beam at 4-10 rad/s,
-    above the first bending frequency, within 0.2 % of the full nonlinear model:
+    coordinates reaches the bending rows through ``G^T`` and its derivative (Kane's spin-up beam
+    at 4-10 rad/s, above the first bending frequency, within 0.2 % of the full nonlinear model:
     tests/test_spin_up_beam.py). Its ply stresses take von Karman's strain
     (:func:`deployfx.stress.strain_measure`)."""
 
