@@ -84,9 +84,8 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   const double t1 = s.t + h;
   const int nc = sys_.num_conserved();
   const Eigen::VectorXd Pi_n = nc ? sys_.momentum(s.q, s.v, s.t) : Eigen::VectorXd();
-  // a_{n+1} as a function of vdot_{n+1}; c = d a_{n+1} / d vdot_{n+1}.
+  // c = d a_{n+1} / d vdot_{n+1} (iterate()).
   const double c = (1 - af) / (1 - am);
-  auto a_of = [&](const Eigen::VectorXd& vd) { return ((1 - af) * vd + af * s.vdot - am * s.a) / (1 - am); };
   auto fail = [&](const std::string& why) {
     std::ostringstream e;
     e << "Newton failed at t = " << t1 << " s (step " << h << " s): " << why;
@@ -137,14 +136,11 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   Eigen::VectorXd last;  // the previous applied increment (dv, db)
   AndersonMixing mixing(newton_.anderson_depth);  // a kept sparse matrix's iterations (NewtonOptions)
   for (int it = 1; it <= newton_.max_iterations; ++it) {
-    const Eigen::VectorXd a1 = a_of(vdot);
-    const Eigen::VectorXd q1 = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a1));
-    const Eigen::VectorXd v1 = s.v + h * ((1 - gamma) * s.a + gamma * a1);
-    Eigen::VectorXd ve = vdot;  // the accelerations in the equations of motion
-    ve.head(nc) = w;
+    const Iterate x1 = iterate(s, h, vdot, w);
+    const Eigen::VectorXd &q1 = x1.q, &v1 = x1.v, &ve = x1.ve;
     // An iterate that left the doubles (an increment that overflowed in the update) fails the
     // step, to be retried smaller, before the system's own input checks see it.
-    if (!q1.allFinite() || !v1.allFinite() || !ve.allFinite()) throw fail("the iterate is not finite");
+    if (!x1.finite()) throw fail("the iterate is not finite");
     // The predictor's residual, or the one the last relaxation left (relax_slaved).
     const Eigen::VectorXd r = r_start.size() ? Eigen::VectorXd(std::move(r_start)) : sys_.residual(q1, v1, ve, t1);
     r_start.resize(0);
@@ -244,18 +240,16 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const bool stalling = it > 1 && size <= newton_.floor * scale;
     const bool stalled = fresh && stalling;
     if (error <= newton_.tolerance * scale || stalled) {
-      const Eigen::VectorXd a_new = a_of(vdot);
-      Eigen::VectorXd q_new = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a_new));
-      Eigen::VectorXd v_new = s.v + h * ((1 - gamma) * s.a + gamma * a_new);
-      if (!q_new.allFinite() || !v_new.allFinite()) throw fail("the converged state is not finite");
-      if (nc) polish_momentum(q_new, v_new, t1, Pi_n);
-      s.q = std::move(q_new);
-      s.v = std::move(v_new);
+      Iterate end = iterate(s, h, vdot, w);
+      if (!end.finite()) throw fail("the converged state is not finite");
+      if (nc) polish_momentum(end.q, end.v, t1, Pi_n);
+      s.q = std::move(end.q);
+      s.v = std::move(end.v);
       s.vdot_prev = std::move(s.vdot);
       s.h_prev = h;
       s.vdot = vdot;
       s.base_accel = w;
-      s.a = a_new;
+      s.a = std::move(end.a);
       s.t = t1;
       return it;
     }
@@ -266,6 +260,18 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     if (newton_.relax_every_iteration && !solver_.dense() && !fresh) r_start = relax_slaved(s, h, vdot, w);
   }
   throw not_converged();
+}
+
+GeneralizedAlpha::Iterate GeneralizedAlpha::iterate(const AlphaState& s, double h, const Eigen::VectorXd& vdot,
+                                                    const Eigen::VectorXd& w) const {
+  const double am = p_.alpha_m, af = p_.alpha_f, beta = p_.beta, gamma = p_.gamma;
+  Iterate x;
+  x.a = ((1 - af) * vdot + af * s.vdot - am * s.a) / (1 - am);  // a_{n+1}(vdot_{n+1})
+  x.q = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * x.a));
+  x.v = s.v + h * ((1 - gamma) * s.a + gamma * x.a);
+  x.ve = vdot;
+  x.ve.head(sys_.num_conserved()) = w;
+  return x;
 }
 
 // A consistent predictor. A Green-strain panel's in-plane coordinates are stiff (omega h = 14-670
@@ -299,17 +305,13 @@ Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Ei
   if (slaved_.empty()) return {};
   const double am = p_.alpha_m, af = p_.alpha_f, beta = p_.beta, gamma = p_.gamma;
   const double t1 = s.t + h, c = (1 - af) / (1 - am);
-  const int nc = sys_.num_conserved();
   Eigen::VectorXd r, r_before, vdot_before;  // the residual at vdot; before the last sweep
   double slaved_before = std::numeric_limits<double>::infinity();
   for (int sweep = 0;; ++sweep) {
-    // The state vdot gives at t_{n+1} (as in step()), and its residual.
-    const Eigen::VectorXd a1 = ((1 - af) * vdot + af * s.vdot - am * s.a) / (1 - am);
-    const Eigen::VectorXd q1 = sys_.retract(s.q, h * s.v + h * h * ((0.5 - beta) * s.a + beta * a1));
-    const Eigen::VectorXd v1 = s.v + h * ((1 - gamma) * s.a + gamma * a1);
-    Eigen::VectorXd ve = vdot;
-    ve.head(nc) = w;
-    if (!q1.allFinite() || !v1.allFinite() || !ve.allFinite()) {  // a sweep that overflowed: undo it
+    // The state vdot gives at t_{n+1}, and its residual.
+    const Iterate x1 = iterate(s, h, vdot, w);
+    const Eigen::VectorXd &q1 = x1.q, &v1 = x1.v, &ve = x1.ve;
+    if (!x1.finite()) {  // a sweep that overflowed: undo it
       if (sweep == 0) {
         factor_h_ = slaved_h_ = -1;
         throw StepFailure("Newton failed at t = " + std::to_string(t1) + " s (step " + std::to_string(h) +

@@ -147,6 +147,14 @@ class GeneralizedAlpha {
 
  private:
   void polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd& v, double t, const Eigen::VectorXd& Pi);
+  /// The state an iterate vdot_{n+1} gives at t + h by the scheme's update (from s at t_n): the
+  /// algorithmic acceleration a, q and v, and the accelerations the equations of motion see, ve
+  /// (vdot with the balance rows' base accelerations w in place; AlphaState).
+  struct Iterate {
+    Eigen::VectorXd a, q, v, ve;
+    bool finite() const { return q.allFinite() && v.allFinite() && ve.allFinite(); }
+  };
+  Iterate iterate(const AlphaState& s, double h, const Eigen::VectorXd& vdot, const Eigen::VectorXd& w) const;
   /// The consistent predictor (step()): relaxes the slaved coordinates' accelerations in vdot
   /// at the predictor; returns the residual at the relaxed predictor (empty: none evaluated).
   Eigen::VectorXd relax_slaved(const AlphaState& s, double h, Eigen::VectorXd& vdot, const Eigen::VectorXd& w);
