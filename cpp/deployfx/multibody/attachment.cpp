@@ -20,6 +20,12 @@ Eigen::MatrixXd node_unit_loads(const fem::ShellModel& model, int node) {
   return F;
 }
 
+Eigen::MatrixXd force_on_parent(const Attachment& att, const body::FlexibleBody& parent,
+                                const body::ElasticState& s, const Eigen::MatrixXd& X) {
+  if (att.manifold) return parent.projected(s, att.P.transpose() * X);
+  return att.P_cols.transpose() * X;
+}
+
 Attachment make_attachment(const body::FlexibleBody& parent, int node, const Eigen::Vector3d& point) {
   Attachment att;
   att.node = node;

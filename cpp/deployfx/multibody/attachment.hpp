@@ -58,6 +58,10 @@ int nearest_node(const fem::ShellModel& model, const Eigen::Vector3d& point);
 Eigen::MatrixXd node_unit_loads(const fem::ShellModel& model, int node);
 /// The attachment at `node` of the hinge through `point` (P), on the compiled `parent`.
 Attachment make_attachment(const body::FlexibleBody& parent, int node, const Eigen::Vector3d& point);
+/// Generalized forces tau_z (columns of X, 6 x m) on the parent's coordinates `parent_cols`
+/// (parent_cols.size() x m): P^T X on `cols`, or G^T P^T X on a manifold (s: the parent's staged state).
+Eigen::MatrixXd force_on_parent(const Attachment& att, const body::FlexibleBody& parent,
+                                const body::ElasticState& s, const Eigen::MatrixXd& X);
 
 /// The attachment's configuration and motion at one instant (P axes, relative to P).
 template <class S>

@@ -143,12 +143,9 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
       if (!b.attachment) continue;
       const Attachment& att = *b.attachment;
       const Body& parent = m.body(b.parent);
-      if (att.manifold) {
-        Yo.middleRows(parent.ie, parent.n_el) += parent.panel->projected(d.elastic[b.parent], att.P.transpose() * TZo[k]);
-        continue;
-      }
-      for (std::size_t i = 0; i < att.cols.size(); ++i)
-        Yo.row(parent.ie + att.cols[i]) += att.P_cols.col(static_cast<Eigen::Index>(i)).transpose() * TZo[k];
+      const Eigen::MatrixXd Z = force_on_parent(att, *parent.panel, d.elastic[b.parent], TZo[k]);
+      for (std::size_t i = 0; i < att.parent_cols.size(); ++i)
+        Yo.row(parent.ie + att.parent_cols[i]) += Z.row(static_cast<Eigen::Index>(i));
     }
     return Yo;
   };
@@ -256,10 +253,7 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
       const Body& a = m.body(above[c]);
       const Attachment& att = *a.attachment;
       const ElasticPattern::Coupling& cp = *pattern.couplings[above[c]];
-      const Eigen::MatrixXd LzF = Lz[c] * FMe;
-      const Eigen::MatrixXd Mz = att.manifold  // G^T P^T on the parent's coordinates
-                                     ? m.body(a.parent).panel->projected(d.elastic[a.parent], att.P.transpose() * LzF)
-                                     : Eigen::MatrixXd(att.P_cols.transpose() * LzF);
+      const Eigen::MatrixXd Mz = force_on_parent(att, *m.body(a.parent).panel, d.elastic[a.parent], Lz[c] * FMe);
       const auto first = std::lower_bound(cp.rows.begin(), cp.rows.end(), b.ie) - cp.rows.begin();
       for (Eigen::Index i = 0; i < Mz.rows(); ++i)
         for (int jj = 0; jj < b.n_el; ++jj) Ev(cp.slots_AR(i, first + jj)) += Mz(i, jj);

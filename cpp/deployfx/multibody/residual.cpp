@@ -27,13 +27,9 @@ Eigen::VectorXd residual(const Model& m, Data& d, const Eigen::VectorXd& q, cons
     if (b.iv_theta >= 0) r(b.iv_theta) = W.hinge[k] - hinge_torque(m, d, k).tau;
     if (b.attachment) {  // the subtree's generalized force on the parent's coordinates
       const Body& p = m.body(b.parent);
-      if (b.attachment->manifold) {  // G^T P^T tau_z
-        p.panel->add_projected(d.elastic[b.parent], b.attachment->P.transpose() * W.attach[k],
-                               r.segment(p.iv_el, p.n_el));
-        continue;
-      }
-      for (std::size_t c = 0; c < b.attachment->cols.size(); ++c)
-        r(p.iv_el + b.attachment->cols[c]) += b.attachment->P_cols.col(static_cast<Eigen::Index>(c)).dot(W.attach[k]);
+      const Attachment& att = *b.attachment;
+      const Eigen::VectorXd Q = force_on_parent(att, *p.panel, d.elastic[b.parent], W.attach[k]);
+      for (std::size_t c = 0; c < att.parent_cols.size(); ++c) r(p.iv_el + att.parent_cols[c]) += Q(static_cast<Eigen::Index>(c));
     }
   }
   for (int k : m.panels()) {
