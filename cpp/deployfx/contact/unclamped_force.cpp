@@ -29,4 +29,14 @@ ContactForce unclamped_force(const ContactLaw& law, double delta, double delta_d
   return f;
 }
 
+double wall_event(const ContactLaw& law, bool closed, bool inside, double v0, double delta, double delta_dot) {
+  if (closed) {
+    const double F = unclamped_force(law, delta, delta_dot, v0).F;
+    if (law.kind() == ContactLaw::Kind::kKelvinVoigtHertz && law.D() > 0) return F;
+    return std::copysign(std::pow(std::abs(F) / law.K(), 1.0 / law.n()), F);
+  }
+  if (!inside || delta <= 0) return -delta;
+  return -unclamped_force(law, delta, delta_dot, std::max(v0, std::abs(delta_dot))).F;
+}
+
 }  // namespace deployfx::contact

@@ -76,32 +76,13 @@ ContactResolution contact_resolution(const LockHistory& h) {
   return out;
 }
 
-namespace {
-
-// A wall's event function (> 0 while its mode holds), penetration delta and rate delta_dot:
-// closed: its force; open: its gap -delta, but for a pin that was within the compliant layer at
-// the last accepted state (just separated; `inside`) and still is, minus the force it would push
-// with, so it recloses as soon as the pin pushes in again. Which of the two an open wall uses is
-// fixed within a step: the gap's root is where the law's force jumps to D delta' (Kelvin-Voigt),
-// and an event function switching to the force there would jump across its root (measured on
-// the paper's 30 s scene: 27 of the 66 event searches bisected such a jump to the 1e-8 s floor,
-// 21 trial steps each).
-double wall_event(const contact::ContactLaw& law, bool closed, bool inside, double v0, double delta,
-                  double delta_dot) {
-  if (closed) return unclamped_force(law, delta, delta_dot, v0).F;
-  if (!inside || delta <= 0) return -delta;
-  return -unclamped_force(law, delta, delta_dot, std::max(v0, std::abs(delta_dot))).F;
-}
-
-}  // namespace
-
 void lock_events(const HingeLockSpec& lock, const LockHistory& h, double theta, double rate, double* stop,
                  double* latch) {
   const double r = lock.pin_radius;
-  *stop = wall_event(lock.law, h.stop_contact, h.stop_inside, h.stop_v0, r * (theta - lock.theta_lock),
-                     r * rate);
-  *latch = h.latched ? wall_event(lock.law, h.latch_contact, h.latch_inside, h.latch_v0,
-                                  r * (lock.theta_latch() - theta), -r * rate)
+  *stop = contact::wall_event(lock.law, h.stop_contact, h.stop_inside, h.stop_v0, r * (theta - lock.theta_lock),
+                              r * rate);
+  *latch = h.latched ? contact::wall_event(lock.law, h.latch_contact, h.latch_inside, h.latch_v0,
+                                           r * (lock.theta_latch() - theta), -r * rate)
                      : std::numeric_limits<double>::infinity();
 }
 
@@ -121,7 +102,7 @@ void update_lock_history(const HingeLockSpec& lock, LockHistory& h, double theta
   // A wall switches mode when its event function is no longer positive; a closing wall keeps
   // its approach speed (the Hunt-Crossley family's v0).
   auto update = [&](bool& closed, bool& inside, double& v0, double delta, double delta_dot, double margin) {
-    if (wall_event(lock.law, closed, inside, v0, delta, delta_dot) <= margin) {
+    if (contact::wall_event(lock.law, closed, inside, v0, delta, delta_dot) <= margin) {
       closed = !closed;
       // The Hunt-Crossley family's damping scales as 1/v0: a wall that recloses while the pin
       // rests on it would get an unbounded damper. Floor: kMinOnsetSpeed.

@@ -96,13 +96,6 @@ V facet_force(const PinGrooveSpec& spec, const FacetContact& fc, const contact::
   return F;
 }
 
-// The event function of a facet that is armed and in range (joint/hinge_lock.cpp's wall_event).
-double facet_event(const contact::ContactLaw& law, const FacetContact& fc, double delta, double delta_dot) {
-  if (fc.closed) return contact::unclamped_force(law, delta, delta_dot, fc.v0).F;
-  if (!fc.inside || delta <= 0) return -delta;
-  return -contact::unclamped_force(law, delta, delta_dot, std::max(fc.v0, std::abs(delta_dot))).F;
-}
-
 void check_history(const PinGrooveSpec& spec, const PinGrooveHistory& h) {
   if (static_cast<int>(h.facets.size()) != spec.profile.num_facets())
     throw std::invalid_argument("history.facets has " + std::to_string(h.facets.size()) +
@@ -274,7 +267,7 @@ void pin_groove_events(const PinGrooveSpec& spec, const PinGrooveHistory& h, dou
       if (fc.closed) e = 0.0;  // slid off the facet's end while in contact: it opens
       continue;
     }
-    e = facet_event(spec.law, fc, -q.gap, -q.n.dot(c_dot));
+    e = contact::wall_event(spec.law, fc.closed, fc.inside, fc.v0, -q.gap, -q.n.dot(c_dot));
   }
   if (spec.latch) events[spec.profile.num_facets()] = h.support >= 0 ? k.st.drop_margin : kInf;
 }
@@ -322,7 +315,7 @@ void update_history(const PinGrooveSpec& spec, PinGrooveHistory& h, double theta
     // An open facet the pin touches without penetrating (delta = 0 to the last bit, as at a drop
     // located on the latch flank) while moving away does not close: no contact to make.
     const bool leaving = !fc.closed && delta <= 0 && delta_dot <= 0;
-    if (!leaving && facet_event(spec.law, fc, delta, delta_dot) <= margin(f)) {
+    if (!leaving && contact::wall_event(spec.law, fc.closed, fc.inside, fc.v0, delta, delta_dot) <= margin(f)) {
       fc.closed = !fc.closed;
       // The Hunt-Crossley family's damping scales as 1/v0: floored as in hinge_lock.cpp.
       if (fc.closed) fc.v0 = std::max(delta_dot, kMinOnsetSpeed);
