@@ -90,6 +90,28 @@ def test_restitution_for_any_output_step(law, dt):
     assert np.all(np.min(np.abs(r.t[:, None] - grid[None, :]), axis=0) < 1e-12)
 
 
+@pytest.mark.parametrize("dt", [0.003, 0.0137, 0.05])
+@pytest.mark.parametrize("law", [ContactLaw("hunt-crossley", K=K, e=0.8), ContactLaw("flores", K=K, e=0.8),
+                                 ContactLaw("paper", K=K, n=1.5, D=0.0), ContactLaw("paper", K=K, n=1.5, D=1e6)],
+                         ids=["hunt-crossley", "flores", "hertz", "paper"])
+def test_onset_and_separation_are_located_in_a_few_trial_steps(law, dt):
+    # The pin coasts at 1 rad/s with no load (theta'' = 0, which the scheme's update integrates
+    # exactly), so the stop closes at t = 0.01 rad / (1 rad/s) = 0.01 s: the located onset lies
+    # within the event search's width of it (1e-8 s, integrate/trajectory.cpp). The search's trial
+    # steps (the substeps neither accepted nor rejected) number at most three an event, onset and
+    # separation alike: the separation's event function crosses zero with a slope (where the
+    # Hunt-Crossley family's and undamped Hertz's force vanishes as delta^1.5 it is the force's
+    # 1.5th root, contact::wall_event). On the force itself the search crept up on the separation
+    # in 7-20 trial steps (measured before the change, these cases: 6-20 for the two events).
+    r = run(swing(law), dt=dt)
+    (impact,) = r.impacts
+    assert impact.t_onset_s == pytest.approx(0.01, abs=1e-8)
+    assert impact.t_separation_s is not None
+    m = r.metadata
+    assert m["events"] == 2
+    assert m["substeps"] - m["steps"] - m["rejected"] <= 3 * m["events"]
+
+
 @pytest.mark.parametrize("law", [ContactLaw("hunt-crossley", K=K, e=0.8), ContactLaw("paper", K=K, n=1.5, D=1e5)],
                          ids=["hunt-crossley", "paper"])
 def test_impact_record_against_a_finely_stepped_run_and_momentum(law):
