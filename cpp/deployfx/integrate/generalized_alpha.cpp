@@ -92,14 +92,14 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     factor_h_ = slaved_h_ = -1;  // the next attempt starts from a fresh matrix
     return StepFailure(e.str());
   };
-  auto not_converged = [&] {
+  auto not_converged = [&](const std::string& why) {
     factor_h_ = slaved_h_ = -1;
     if (newton_.reuse_jacobian && solver_.dense()) full_steps_ = newton_.full_newton_steps;  // the retry: full Newton
     std::ostringstream e;
-    e << "Newton did not converge at t = " << t1 << " s (step " << h << " s) in "
-      << newton_.max_iterations << " iterations";
+    e << "Newton did not converge at t = " << t1 << " s (step " << h << " s): " << why;
     return StepFailure(e.str());
   };
+  auto out_of_iterations = [&] { return not_converged(std::to_string(newton_.max_iterations) + " iterations"); };
   // Predictor. Generalized-alpha carries the part of vdot it cannot resolve (stiff root modes,
   // a contact's impulse, the start-up) as a transient that alternates in sign and decays by the
   // high-frequency root -rs = -alpha_f/(1 - alpha_f) (= -rho_inf) per step: the panel's
@@ -133,6 +133,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   // trial steps converge on the switch.
   bool refactor = !newton_.reuse_jacobian || !(std::abs(factor_h_ - h) <= newton_.step_reuse * h) || full;
   double previous = 0;
+  int diverging = 0;  // exact Newton steps that grew the increment (NewtonOptions::diverging_steps)
   Eigen::VectorXd last;  // the previous applied increment (dv, db)
   AndersonMixing mixing(newton_.anderson_depth);  // a kept sparse matrix's iterations (NewtonOptions)
   for (int it = 1; it <= newton_.max_iterations; ++it) {
@@ -186,7 +187,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       if (fresh || rho < 1) break;
       // An old matrix that no longer contracts: a fresh one here, for the same residual, as the
       // next iteration (its residual would be this one again).
-      if (++it > newton_.max_iterations) throw not_converged();
+      if (++it > newton_.max_iterations) throw out_of_iterations();
       factorize_here();
       fresh = true;
     }
@@ -230,6 +231,8 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       if (limited) refactor = true;  // the matrix of the far side no longer holds
       continue;
     }
+    if (fresh && rho > 1 && ++diverging >= newton_.diverging_steps)
+      throw not_converged(std::to_string(diverging) + " exact Newton steps grew the increment");
     // Contraction rate of the (possibly modified) Newton iteration; its error estimate
     // rho/(1 - rho) |dv| (Hairer & Wanner, Solving ODEs II, Sec. IV.8) decides convergence.
     const double error = rho > 0 && rho < 1 ? size * rho / (1 - rho) : size;
@@ -259,7 +262,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     // After a kept matrix's update (a fresh one's leaves the membrane misfit at second order).
     if (newton_.relax_every_iteration && !solver_.dense() && !fresh) r_start = relax_slaved(s, h, vdot, w);
   }
-  throw not_converged();
+  throw out_of_iterations();
 }
 
 GeneralizedAlpha::Iterate GeneralizedAlpha::iterate(const AlphaState& s, double h, const Eigen::VectorXd& vdot,

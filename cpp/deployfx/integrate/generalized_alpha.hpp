@@ -65,6 +65,15 @@ struct NewtonOptions {
   /// 2 step_reuse on the stiff elastic modes. (An event search's later sizes lie within 1e-3..2e-2
   /// of each other.)
   double step_reuse = 0.02;
+  /// A step fails (and is retried at half the size) once this many exact Newton steps (fresh
+  /// matrices) have each grown the increment: it lies outside Newton's region of convergence,
+  /// and the iterations left would cycle there up to max_iterations. Measured on the paper's
+  /// scene, 15 x 10, 30 s (docs/performance-history.md, session 23): the trial steps of the
+  /// first lock's event search that end just past the latch's drop (where the massless pin's
+  /// support force is singular) cycled for 20 iterations, then again at each halving; at 3, the
+  /// runs' states are bit for bit those at 20 (no step that converges grows its increment three
+  /// times) and 9 % of reduced-manifold's and 5 % of reduced-nonlinear's factorizations go.
+  int diverging_steps = 3;
   double contraction = 0.25;
   double contraction_dense = 0.03;
   int full_newton_steps = 10;
