@@ -80,8 +80,11 @@ def profile(model: str, nx: int, ny: int, modes: int, t_end: float, dt: float, t
     q0, v0 = sys.initial_positions(), np.zeros(sys.num_velocities)
     # The state to evaluate at: from a run (to t_eval, or the whole run when timed).
     t_state = t_end if run else t_eval
+    # The run's own data, so the evaluations below see its lock history (a fresh one would hold
+    # the pin on the track it left at the drop).
+    data = model.make_data()
     start = clock()
-    raw = _core.simulate(sys, q0, v0, t_end=t_state, dt=dt, scheme=p)
+    raw = _core.simulate(sys, q0, v0, t_end=t_state, dt=dt, scheme=p, data=data)
     wall = clock() - start
     if run:
         n = max(int(raw["substeps"]), 1)
@@ -105,7 +108,6 @@ def profile(model: str, nx: int, ny: int, modes: int, t_end: float, dt: float, t
             return f(*states[count[0] % 2])
         return g
 
-    data = model.make_data()  # one run's data: its memos, as in the run
     out["res"] = timed(alternate(lambda q, v: sys.residual(q, v, a, t, data=data)), clock=clock)
     out["iter"] = timed(alternate(lambda q, v: sys.newton_matrix(q, v, a, t, 1.0, gamma * dt * c,
                                                                  beta * dt * dt * c, data=data)),
