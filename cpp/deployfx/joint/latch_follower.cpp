@@ -114,23 +114,32 @@ FollowerState follow(const contact::GrooveProfile& profile, const LatchSpring& s
   FollowerState st = on_facet(profile, spring, bore(spring, pin_angle, theta), rho, support);
   if (st.found) return st;
   // Past the drop (drop_margin < 0): the pin held where the drop left it, s at the drop angle
-  // theta_d, the root of drop_margin below theta (bracketed by steps back that grow 4x, then
-  // bisected; the margin is linear on either side of it).
+  // theta_d, the root of drop_margin below theta: bracketed by steps back that grow 4x, then the
+  // Illinois secant (the margin is linear on either side of theta_d, kinked there).
   auto at = [&](double th) { return on_facet(profile, spring, bore(spring, pin_angle, th), rho, support); };
-  double above = theta, back = 1e-9 * std::max(1.0, std::abs(theta));
+  double hi = theta, m_hi = st.drop_margin, back = 1e-9 * std::max(1.0, std::abs(theta));
   FollowerState below = at(theta - back);
   for (int k = 0; k < 40 && !below.found; ++k) {
-    above = theta - back;
+    hi = theta - back, m_hi = below.drop_margin;
     back *= 4;
     below = at(theta - back);
   }
   if (below.found) {
-    double lo = theta - back, hi = above;
+    double lo = theta - back, m_lo = below.drop_margin;
+    int side = 0;
     for (int it = 0; it < 60 && hi - lo > 4 * kEps * std::max(1.0, std::abs(theta)); ++it) {
-      const double mid = 0.5 * (lo + hi);
+      double mid = lo + (hi - lo) * m_lo / (m_lo - m_hi);
+      if (!(mid > lo && mid < hi)) mid = 0.5 * (lo + hi);
       const FollowerState m = at(mid);
-      if (m.found) lo = mid, below = m;
-      else hi = mid;
+      if (m.found) {
+        lo = mid, m_lo = m.drop_margin, below = m;
+        if (side == -1) m_hi *= 0.5;
+        side = -1;
+      } else {
+        hi = mid, m_hi = m.drop_margin;
+        if (side == 1) m_lo *= 0.5;
+        side = 1;
+      }
     }
     st.w = below.w;
     st.s = below.s;
