@@ -69,10 +69,11 @@ struct NewtonOptions {
   /// matrices) have each grown the increment: it lies outside Newton's region of convergence,
   /// and the iterations left would cycle there up to max_iterations. Measured on the paper's
   /// scene, 15 x 10, 30 s (docs/performance-history.md, session 23): the trial steps of the
-  /// first lock's event search that end just past the latch's drop (where the massless pin's
-  /// support force is singular) cycled for 20 iterations, then again at each halving; at 3, the
-  /// runs' states are bit for bit those at 20 (no step that converges grows its increment three
-  /// times) and 9 % of reduced-manifold's and 5 % of reduced-nonlinear's factorizations go.
+  /// first lock's event search that end just past the latch's drop (where the pin falls to its
+  /// seat and the hinge torque drops, so that such a step has no solution) cycled for 20
+  /// iterations, then again at each halving; at 3, the runs' states are bit for bit those at 20
+  /// (no step that converges grows its increment three times) and 9 % of reduced-manifold's and
+  /// 5 % of reduced-nonlinear's factorizations go.
   int diverging_steps = 3;
   double contraction = 0.25;
   double contraction_dense = 0.03;

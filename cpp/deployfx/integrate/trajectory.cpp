@@ -63,12 +63,13 @@ double first_switch(const Eigen::VectorXd& g0, const Eigen::VectorXd& g) {
 // within a step), else of the secant with the Illinois modification; once that root lies within
 // the width of an end, a probe one width inside the end closes the bracket; three trials in a row
 // on one side bisect it. A probe that lands on its end's own side shows G misbehaving there (near
-// the latch's drop the trial steps' G is noisy to 1e-3 and flat past the root: the pin's support
-// force is singular at the drop): the search then keeps its trials 5 % of the bracket inside its
-// ends (the Illinois secant, bisecting after two clipped trials in a row), still probing until
-// such a probe too lands on its own side. Paper scene, 15 x 10, 30 s: 5.2 trials an event against
-// 6.3 for the guarded search alone (reduced-manifold); the swinging pin of tests/
-// test_lock_accuracy.py 3-6 for its two events against 6-20.
+// the latch's drop the trial steps' G is noisy to 1e-3 and flat past the root, where a step
+// ending within about 1e-7 s past the drop has no solution: NewtonOptions::diverging_steps):
+// the search then keeps its trials 5 % of the bracket inside its ends (the Illinois secant,
+// bisecting after two clipped trials in a row), still probing until such a probe too lands on
+// its own side. Paper scene, 15 x 10, 30 s: 5.2 trials an event against 6.3 for the guarded
+// search alone (reduced-manifold); the swinging pin of tests/test_lock_accuracy.py 3-6 for its
+// two events against 6-20.
 struct EventBracket {
   double lo = 0, hi, G_lo = 1.0, G_hi;
   double w_lo = 1.0, w_hi;  // Illinois: the ends' values as the secant weighs them
@@ -96,14 +97,13 @@ struct EventBracket {
         same_side = 0;
         return 0.5 * (lo + hi);
       }
-      if (hi - t < width) return probe = 1, hi - 0.99 * width;
-      if (t - lo < width) return probe = -1, lo + 0.99 * width;
-      return t;
+      probe = hi - t < width ? 1 : t - lo < width ? -1 : 0;
+      return probe == 0 ? t : probe_at(width);
     }
     // Guarded: the unweighted secant's root decides a probe, the weighted one the trial.
     const double root = hi - G_hi * (hi - lo) / (G_hi - G_lo);
-    if (probing && hi - root <= 0.5 * width) return probe = 1, hi - 0.99 * width;
-    if (probing && root - lo <= 0.5 * width) return probe = -1, lo + 0.99 * width;
+    if (probing) probe = hi - root <= 0.5 * width ? 1 : root - lo <= 0.5 * width ? -1 : 0;
+    if (probe != 0) return probe_at(width);
     const double guard = 0.05 * (hi - lo);
     clipped = secant > lo + guard && secant < hi - guard ? 0 : clipped + 1;
     if (clipped >= 2) {
@@ -112,6 +112,9 @@ struct EventBracket {
     }
     return std::min(std::max(secant, lo + guard), hi - guard);
   }
+
+  // One width inside the end `probe` names.
+  double probe_at(double width) const { return probe == 1 ? hi - 0.99 * width : lo + 0.99 * width; }
 
   void update(double t, double G) {
     const int now = G > 0 ? -1 : 1;
