@@ -152,9 +152,15 @@ def test_a_plastic_pin_peaks_at_the_onset_jump_and_the_panel_behind_it_is_resolv
     assert r.metadata["contact_steps"] > 0
     assert r.summary()["peak_lock_force_N"] == first.peak_force_N
     assert r.summary()["peak_impact_impulse_N_s"] == first.impulse_N_s > 0
-    node_e = {dt: np.abs(scene.simulate(3.0, dt).hinge(0).node_E_deflection).max() for dt in (1e-3, 1e-4)}
+    runs = {dt: scene.simulate(3.0, dt).hinge(0) for dt in (1e-3, 1e-4)}
+    node_e = {dt: np.abs(run.node_E_deflection).max() for dt, run in runs.items()}
     assert node_e[1e-3] == pytest.approx(node_e[1e-4], rel=1e-4)
     assert np.abs(r.node_E_deflection).max() == pytest.approx(node_e[1e-4], rel=1e-3)
+    # The pin drops behind the latch 6.6 ms before this impact; the step after the located drop
+    # starts from the dropped pin's forces (integrate/trajectory.cpp), so the approach speed, and
+    # with it the peak D v, converges at the default step: within 2e-4 of the run at 0.1 ms
+    # (measured 7e-5; 6.9e-4 when the located state kept the drop's trial step's accelerations).
+    assert first.peak_force_N == pytest.approx(runs[1e-4].impacts[0].peak_force_N, rel=2e-4)
 
 
 def test_impacts_survive_save_and_load_and_hinge_views(tmp_path):

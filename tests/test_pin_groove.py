@@ -483,6 +483,35 @@ def test_load_derivatives_match_central_differences(mu, where):
         assert L.d_rate == pytest.approx(dr, abs=1e-5 * max(abs(L.d_rate), 1e-3))
 
 
+def test_past_the_drop_the_pin_is_held_where_the_drop_left_it():
+    # Within a step the pin's support is fixed, as a wall's mode is (an active set): a trial state
+    # past the drop (the history not yet updated) holds the pin at the drop's s (continuous with
+    # the roll-over's, whose s falls as sqrt(theta_d - theta): 3.6e-7 m at 1e-9 rad, so within
+    # 2e-8 m at 1e-12), ds = d2s = 0, and the support keeps pushing the hinge forward, never
+    # less than at the drop. Before, the pin fell there and the torque dropped from 0.165 N m to
+    # 0: an implicit step ending just past the drop then had no solution (its end-point torque put
+    # its end before the drop) and Newton cycled (joint/latch_follower.hpp). The history's update
+    # then drops the pin onto the seat, as before.
+    d = G.PAPER_DEFAULTS
+    g = G.PinGroove.paper(PAPER_LAW, Friction(0.25))
+    h = g.start_history(0.0)
+    th_latch = d["theta_lock"] - d["clearance"] / d["seat"]
+    at_drop = g.position(th_latch - 1e-12, h)
+    assert at_drop["found"] and not at_drop["beyond"]
+    tau_drop = g.load(th_latch - 1e-12, 1.0, h).torque
+    for past in (1e-9, 1e-6, 1e-4):
+        p = g.position(th_latch + past, h)
+        assert p["beyond"] and not p["found"] and p["drop_margin"] < 0
+        assert p["s"] == pytest.approx(at_drop["s"], abs=2e-8)
+        assert p["ds"] == 0.0 and p["d2s"] == 0.0
+        assert g.load(th_latch + past, 1.0, h).torque >= tau_drop > 0
+    g.update_history(h, th_latch + 1e-12, 1.0)
+    assert h.support == 1
+    landed = g.position(th_latch + 1e-9, h)
+    assert landed["found"] and not landed["beyond"]
+    assert landed["s"] == pytest.approx(d["seat"], abs=1e-12)
+
+
 def test_paper_groove_geometry():
     # joint/lock_profiles.hpp with the defaults of docs/research/pin-groove.md: the pin rides at
     # seat + notch depth = 34 mm, its drop event crosses 0 at theta_latch (where hinge_lock.cpp

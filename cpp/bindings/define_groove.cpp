@@ -156,6 +156,7 @@ void define_groove(py::module_& m) {
           const auto st = pin_position(s, h, theta);
           py::dict d;
           d["found"] = st.found;
+          d["beyond"] = st.beyond;
           d["bottomed"] = st.bottomed;
           d["w"] = st.w;
           d["s"] = st.s;

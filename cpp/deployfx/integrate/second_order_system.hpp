@@ -99,9 +99,12 @@ class SecondOrderSystem {
   /// Called after every accepted step. An event function at or below its `margin` (same order
   /// as gaps(); empty: all 0) has switched: at a located event, the stepper gives every event a
   /// margin of the location tolerance, so that events simultaneous to round-off (two symmetric
-  /// wings locking together) switch together.
-  virtual void accept(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/, double /*t*/,
-                      const Eigen::VectorXd& /*margin*/ = Eigen::VectorXd()) {}
+  /// wings locking together) switch together. Returns true when a switch moved a massless part
+  /// (a latch pin's drop), whose forces jump with no impact to resolve.
+  virtual bool accept(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/, double /*t*/,
+                      const Eigen::VectorXd& /*margin*/ = Eigen::VectorXd()) {
+    return false;
+  }
 };
 
 }  // namespace deployfx::integrate

@@ -104,23 +104,49 @@ FollowerState on_facet(const contact::GrooveProfile& profile, const LatchSpring&
 
 FollowerState follow(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle, double rho,
                      int support, double theta) {
-  const Bore b = bore(spring, pin_angle, theta);
-  FollowerState st;
-  if (support >= 0) st = on_facet(profile, spring, b, rho, support);
-  if (support >= 0 && st.found) return st;
-  // On the bore stop, or past a drop (a trial state beyond the located event): the pin where it
-  // falls, on the next support (found = false and the old support's negative drop margin).
-  const double margin = support >= 0 ? st.drop_margin : kInf;
-  const int next = support >= 0 ? next_support(profile, spring, pin_angle, rho, theta, spring.travel, support) : -1;
-  FollowerState landed;
-  if (next >= 0) landed = on_facet(profile, spring, b, rho, next);
-  if (next < 0 || !landed.found) {
-    landed = FollowerState{};
-    landed.s = spring.stop;
+  if (support < 0) {  // on the bore stop
+    FollowerState st;
+    st.found = true;
+    st.s = spring.stop;
+    st.drop_margin = kInf;
+    return st;
   }
-  landed.found = support < 0;
-  landed.drop_margin = margin;
-  return landed;
+  FollowerState st = on_facet(profile, spring, bore(spring, pin_angle, theta), rho, support);
+  if (st.found) return st;
+  // Past the drop (drop_margin < 0): the pin held where the drop left it, s at the drop angle
+  // theta_d, the root of drop_margin below theta: bracketed by steps back that grow 4x, then the
+  // Illinois secant (the margin is linear on either side of theta_d, kinked there).
+  auto at = [&](double th) { return on_facet(profile, spring, bore(spring, pin_angle, th), rho, support); };
+  double hi = theta, m_hi = st.drop_margin, back = 1e-9 * std::max(1.0, std::abs(theta));
+  FollowerState below = at(theta - back);
+  for (int k = 0; k < 40 && !below.found; ++k) {
+    hi = theta - back, m_hi = below.drop_margin;
+    back *= 4;
+    below = at(theta - back);
+  }
+  if (below.found) {
+    double lo = theta - back, m_lo = below.drop_margin;
+    int side = 0;
+    for (int it = 0; it < 60 && hi - lo > 4 * kEps * std::max(1.0, std::abs(theta)); ++it) {
+      double mid = lo + (hi - lo) * m_lo / (m_lo - m_hi);
+      if (!(mid > lo && mid < hi)) mid = 0.5 * (lo + hi);
+      const FollowerState m = at(mid);
+      if (m.found) {
+        lo = mid, m_lo = m.drop_margin, below = m;
+        if (side == -1) m_hi *= 0.5;
+        side = -1;
+      } else {
+        hi = mid, m_hi = m.drop_margin;
+        if (side == 1) m_lo *= 0.5;
+        side = 1;
+      }
+    }
+    st.w = below.w;
+    st.s = below.s;
+  }
+  st.beyond = true;
+  st.ds = st.d2s = 0.0;
+  return st;
 }
 
 const FollowerState* FollowerMemo::find(const contact::GrooveProfile& profile, const LatchSpring& spring,

@@ -41,6 +41,7 @@ struct LatchSpring {
 /// The pin's radial position on a support at hinge angle theta.
 struct FollowerState {
   bool found = false;     ///< the bore meets the support's rho-offset within the travel (true on the stop)
+  bool beyond = false;    ///< past the drop, continued on the support (follow())
   bool bottomed = false;  ///< the profile pushes the pin to the end of its travel (w = travel)
   double w = 0;           ///< m, compression (0 on the bore stop)
   double s = 0, ds = 0, d2s = 0;  ///< m, m/rad, m/rad^2: distance from the axis and its theta-derivatives
@@ -71,8 +72,16 @@ class FollowerMemo {
 
 /// The pin on facet `support` (psi = theta + pin_angle its direction in the parent's hinge plane);
 /// support < 0: on its bore stop (s = stop, ds = d2s = 0, drop_margin = +inf). Past the drop
-/// (drop_margin < 0, a trial state beyond the event), found is false and the pin is where it
-/// falls: on next_support(..., travel, support), or its bore stop.
+/// (drop_margin < 0: a trial state beyond the event, which the history's update then switches to
+/// the next support), found is false and the pin is held where the drop left it (`beyond`: s and
+/// w of the last supported angle, ds = d2s = 0), so the support's force continues past it. The
+/// support is fixed within a step, as a wall's mode is (an active set): the pin falling there
+/// instead made the hinge torque drop at the drop (on the paper's groove from 0.165 N m to 0, the
+/// pin by 1.9 mm), and an implicit step that ended just past it had no solution (its end-point
+/// torque, lower, put its end before the drop): Newton cycled to its limit and the steps halved
+/// (15-41 failures at the first lock of each 30 s paper run). The located drop's step is then
+/// taken again with the pin dropped (integrate/trajectory.cpp), so that the next step starts from
+/// the dropped pin's forces.
 FollowerState follow(const contact::GrooveProfile& profile, const LatchSpring& spring, double pin_angle,
                      double rho, int support, double theta);
 /// The support the pin falls onto from compression w_from (m): the facet other than `exclude`

@@ -59,6 +59,11 @@ void update(const LockSpec& lock, LockState& state, double theta, double rate, c
   update_history(std::get<PinGrooveSpec>(lock), std::get<PinGrooveHistory>(state), theta, rate, margins);
 }
 
+int support(const LockState& state) {
+  const auto* g = std::get_if<PinGrooveHistory>(&state);
+  return g ? g->support : -1;
+}
+
 int num_contacts(const LockSpec& lock) {
   return std::visit(Overload{[](const HingeLockSpec&) { return 2; },
                              [](const PinGrooveSpec& g) { return g.profile.num_facets(); }},

@@ -32,6 +32,8 @@ int num_events(const LockSpec& lock);
 void events(const LockSpec& lock, const LockState& state, double theta, double rate, double* g);
 /// Updates the history after an accepted step (margins: num_events values, or null).
 void update(const LockSpec& lock, LockState& state, double theta, double rate, const double* margins);
+/// A latch pin's support facet (PinGrooveHistory::support); -1 for the stop-latch walls.
+int support(const LockState& state);
 
 /// The lock's contacts (the stop and the latch; the profile's facets).
 int num_contacts(const LockSpec& lock);

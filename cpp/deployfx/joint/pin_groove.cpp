@@ -176,7 +176,7 @@ PinGrooveLoad pin_groove_load(const PinGrooveSpec& spec, const PinGrooveHistory&
       const Dual delta_dot = -dot(lift_normal(q, k.C), k.C_dot);
       fc.v0 = std::max(std::abs(delta_dot.v), kMinOnsetSpeed);
       F += facet_force(spec, fc, q, k, &out.normal_force, true);
-    } else if (k.st.found && q.in_range) {
+    } else if ((k.st.found || k.st.beyond) && q.in_range) {
       // The massless pin's balance along the bore e_b: N (n + f t)·e_b = -(F_s + F_others·e_b).
       const LatchSpring& L = *spec.latch;
       const V N = lift_normal(q, k.C), T = tangent(N);

@@ -99,8 +99,8 @@ struct PinGrooveLoad {
   double support_force = 0;  ///< N, the latch support's normal force N (0 without; < 0: the other
                              ///< contacts pull the pin off its support, outside the model)
   double pin_position = 0;   ///< m, s: the pin centre's distance from the axis
-  /// Latch: the support no longer meets the bore (a trial state past the drop event); the pin is
-  /// then where it falls and carries no spring load until update_history drops it.
+  /// Latch: the support no longer meets the bore (a trial state past the drop event); the pin
+  /// then continues on it (FollowerState::beyond) until update_history drops it.
   bool support_lost = false;
 };
 

@@ -50,9 +50,10 @@ HingeInverseInertia hinge_inverse_inertia(const Model& m, Data& d, const Eigen::
   return out;
 }
 
-void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t,
+bool accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t,
             const Eigen::VectorXd& margin) {
   d.accepted_q = q;
+  bool dropped = false;
   Eigen::Index i = 0;
   for (int k : m.locks()) {
     const Body& b = m.body(k);
@@ -61,7 +62,9 @@ void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::Vect
     const double theta = q(b.iq_theta), rate = v(b.iv_theta);
     const int contacts = joint::num_contacts(lock);
     const std::vector<joint::WallState> was = joint::contact_states(lock, h, theta, rate);
+    const int support = joint::support(h);
     joint::update(lock, h, theta, rate, margin.size() ? margin.data() + i : nullptr);
+    dropped = dropped || joint::support(h) != support;
     const std::vector<joint::WallState> now = joint::contact_states(lock, h, theta, rate);
     std::optional<HingeInverseInertia> inverse_inertia;  // once per accepted step at most
     for (int c = 0; c < contacts; ++c) {
@@ -93,6 +96,7 @@ void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::Vect
     }
     i += joint::num_events(lock);
   }
+  return dropped;
 }
 
 integrate::SecondOrderSystem::StepBounds step_bounds(const Model& m, const Data& d) {

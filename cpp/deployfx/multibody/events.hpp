@@ -17,8 +17,9 @@ Eigen::VectorXd lock_events(const Model& m, const Data& d, const Eigen::VectorXd
 /// below its `margin` (lock_events' order; empty: 0) switches. A wall that closes gets its
 /// time scale from the pin's effective mass there, or where the law's dashpot stops the pin
 /// alone, from the hinge's with the panels held rigid (hinge_inverse_inertia); every wall's
-/// contact is followed into d.impacts (joint/impact_record.hpp).
-void accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t,
+/// contact is followed into d.impacts (joint/impact_record.hpp). Returns true when a latch pin
+/// dropped to another support.
+bool accept(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t,
             const Eigen::VectorXd& margin = Eigen::VectorXd());
 /// The inverse of hinge k's effective inertia (1/(kg m^2)) against an impulse about its axis:
 /// `free`, e^T M(q)^-1 e with every other coordinate free (the mass matrix, dr/da; on a deforming

@@ -45,8 +45,8 @@ Eigen::VectorXd TreeSystem::gaps(const Eigen::VectorXd& q, const Eigen::VectorXd
   return lock_events(m_, d_, q, v);
 }
 
-void TreeSystem::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t, const Eigen::VectorXd& margin) {
-  multibody::accept(m_, d_, q, v, t, margin);
+bool TreeSystem::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t, const Eigen::VectorXd& margin) {
+  return multibody::accept(m_, d_, q, v, t, margin);
 }
 
 integrate::SecondOrderSystem::StepBounds TreeSystem::step_bounds() { return multibody::step_bounds(m_, d_); }

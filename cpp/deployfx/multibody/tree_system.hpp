@@ -30,7 +30,7 @@ class TreeSystem final : public integrate::SecondOrderSystem {
                                     double c_q) override;
   Eigen::MatrixXd conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) override;
   Eigen::VectorXd gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) override;
-  void accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t, const Eigen::VectorXd& margin) override;
+  bool accept(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t, const Eigen::VectorXd& margin) override;
   StepBounds step_bounds() override;
   double newton_step_limit(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& dv) override;
   /// Every Green-strain panel's in-plane coordinates (FlexibleBody::in_plane_coordinates), at its
