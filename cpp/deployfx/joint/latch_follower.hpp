@@ -13,7 +13,9 @@
 //   (the pin drops off an edge): the event function drop_margin = rho - (distance from the bore
 //   segment to the facet) is continuous and crosses 0 there, linearly in theta at a sharp edge.
 //   The pin then falls, at once, to the next support below (next_support), or its bore stop; the
-//   spring work of that fall goes into the pin's impact on the new support: lost.
+//   spring work of that fall goes into the pin's impact on the new support: lost. It falls at
+//   the located event (the history's update); within the step that finds it, past the drop, it
+//   is held where the drop left it (follow()).
 // Limits: the pin never climbs onto another facet (a facet it runs into is a compliant contact
 // of pin_groove.hpp); the support's slope dominates the radial motion near the end of a roll-over
 // (ds/dtheta grows as 1/sqrt near a vertical flank: a massless pin follows any edge at once, a
