@@ -302,8 +302,7 @@ class PinGroove:
     def position(self, theta: float, history: History) -> dict:
         """The pin's position: s (m from the axis), ds (m/rad), d2s (m/rad^2), w (spring
         compression, m), drop_margin (m), found, beyond (past the drop with this history: the pin
-        continued on its support at the bore's point nearest it, until update_history drops it),
-        bottomed."""
+        held where the drop left it, until update_history drops it), bottomed."""
         return _core.groove_pin_position(self._impl, history, _finite("theta", theta, "rad"))
 
     def facet_state(self, facet: int, theta: float, rate: float, history: History) -> dict:

@@ -100,7 +100,8 @@ class SecondOrderSystem {
   /// as gaps(); empty: all 0) has switched: at a located event, the stepper gives every event a
   /// margin of the location tolerance, so that events simultaneous to round-off (two symmetric
   /// wings locking together) switch together. Returns true when a switch moved a massless part
-  /// (a latch pin's drop), whose forces jump with no impact to resolve.
+  /// (a latch pin's drop), whose forces jump with no impact to resolve: the stepper then takes
+  /// the event's step again under the new mode, so that the next step starts from its forces.
   virtual bool accept(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/, double /*t*/,
                       const Eigen::VectorXd& /*margin*/ = Eigen::VectorXd()) {
     return false;

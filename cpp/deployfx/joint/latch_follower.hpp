@@ -43,7 +43,7 @@ struct LatchSpring {
 /// The pin's radial position on a support at hinge angle theta.
 struct FollowerState {
   bool found = false;     ///< the bore meets the support's rho-offset within the travel (true on the stop)
-  bool beyond = false;    ///< past the drop, continued on the support (follow())
+  bool beyond = false;    ///< past the drop: held where the drop left it (follow())
   bool bottomed = false;  ///< the profile pushes the pin to the end of its travel (w = travel)
   double w = 0;           ///< m, compression (0 on the bore stop)
   double s = 0, ds = 0, d2s = 0;  ///< m, m/rad, m/rad^2: distance from the axis and its theta-derivatives
