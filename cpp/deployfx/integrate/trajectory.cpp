@@ -279,9 +279,6 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
           if (G > 0) vdot_lo = m.vdot;
           else best = std::move(m);
         }
-        const AlphaState start = s;  // the step the event ends
-        const double located = bracket.hi;
-        s = std::move(best);
         // Every event within the location tolerance of its switch switches here too: events
         // simultaneous to round-off (symmetric contacts) must not part by a tiny step. The
         // tolerance is relative to the larger of the event's start value and its change over the
@@ -290,7 +287,7 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
         for (Eigen::Index i = 0; i < g0.size(); ++i)
           if (g0(i) > 0 && std::isfinite(g0(i)))
             margin(i) = kEventTolerance * std::max(g0(i), std::isfinite(g1(i)) ? std::abs(g1(i) - g0(i)) : 0.0);
-        if (sys.accept(s.q, s.v, s.t, margin)) {
+        if (sys.accept(best.q, best.v, best.t, margin)) {
           // A latch pin dropped: the search's trial steps held it where the drop left it
           // (joint/latch_follower.hpp), so the located state's accelerations are the held pin's.
           // The same step again with the pin dropped (its forces at the step's end) gives the
@@ -298,13 +295,14 @@ Trajectory run(GeneralizedAlpha& integrator, AlphaState s, double t_end, double 
           // 0.5 ms: the first impact's peak force (D times the approach speed) 0.004-0.05 % off,
           // was 0.12-0.24 %; carrying the held pin's accelerations put the first lock 0.26 ms
           // early. If Newton cannot take the step, the held state stays.
-          AlphaState again = start;
+          AlphaState again = s;  // s is still the step's start
           try {
-            iterations += advance(integrator, again, located, 0, &tr.substeps, poll, &s.vdot);
-            s = std::move(again);
+            iterations += advance(integrator, again, bracket.hi, 0, &tr.substeps, poll, &best.vdot);
+            best = std::move(again);
           } catch (const StepFailure&) {
           }
         }
+        s = std::move(best);
         // A contact to resolve starts here: its first step is the shortest worth taking (a
         // hundredth of the impact's time scale). The law may jump at onset (the paper's, to
         // D delta'), and the acceleration the scheme carries over lacks the jump: a first-order
