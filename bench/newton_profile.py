@@ -35,7 +35,7 @@ import deployfx as dfx
 from deployfx import _core
 from deployfx.integrators import GeneralizedAlpha
 
-MODELS = ("rigid", "reduced-linear", "reduced-nonlinear", "linear", "nonlinear")
+MODELS = ("rigid", "reduced-linear", "reduced-nonlinear", "reduced-manifold", "linear", "nonlinear")
 RHO = 0.8
 
 

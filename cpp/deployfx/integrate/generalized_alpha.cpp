@@ -66,7 +66,6 @@ void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd
 }
 
 void GeneralizedAlpha::restore(const Solver& state) {
-  full_steps_ = state.full_steps;
   factor_h_ = -1;
   if (!(state.h > 0)) return;
   matrix_ = state.S;
@@ -93,8 +92,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     return StepFailure(e.str());
   };
   auto not_converged = [&](const std::string& why) {
-    factor_h_ = slaved_h_ = -1;
-    if (newton_.reuse_jacobian && solver_.dense()) full_steps_ = newton_.full_newton_steps;  // the retry: full Newton
+    factor_h_ = slaved_h_ = -1;  // the retry starts from a fresh matrix
     std::ostringstream e;
     e << "Newton did not converge at t = " << t1 << " s (step " << h << " s): " << why;
     return StepFailure(e.str());
@@ -125,13 +123,10 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   // Convergence is judged against the accelerations at the step's start: an iterate that has run
   // away cannot make its own increments look small.
   const double scale = std::max(1.0, s.vdot.lpNorm<Eigen::Infinity>());
-  // Full Newton (a fresh matrix at every iteration) while a reused matrix has lately proved slow.
-  bool full = newton_.reuse_jacobian && full_steps_ > 0;
-  if (full) --full_steps_;
   // A step of about the same size keeps the matrix (NewtonOptions::step_reuse): the steps of a
   // run differ from dt in the last bits (output times are t0 + k dt), and an event search's
   // trial steps converge on the switch.
-  bool refactor = !newton_.reuse_jacobian || !(std::abs(factor_h_ - h) <= newton_.step_reuse * h) || full;
+  bool refactor = !newton_.reuse_jacobian || !(std::abs(factor_h_ - h) <= newton_.step_reuse * h);
   double previous = 0;
   int diverging = 0;  // exact Newton steps that grew the increment (NewtonOptions::diverging_steps)
   Eigen::VectorXd last;  // the previous applied increment (dv, db)
@@ -159,7 +154,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       if (!slaved_.empty()) slaved_block_.set(S, slaved_), slaved_h_ = h;
       if (nc) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
       factor_h_ = h;
-      refactor = !newton_.reuse_jacobian || full;
+      refactor = !newton_.reuse_jacobian;
       matrix_ = std::move(S);  // kept for a checkpoint (solver_state)
     };
     bool fresh = refactor;
@@ -179,11 +174,6 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       size = nc ? std::max(dv.lpNorm<Eigen::Infinity>(), db.lpNorm<Eigen::Infinity>()) : dv.lpNorm<Eigen::Infinity>();
       if (!std::isfinite(size)) throw fail("the Newton increment is not finite");
       rho = previous > 0 ? size / previous : 0.0;
-      if (!fresh && solver_.dense() && rho > contraction && newton_.full_newton_steps > 0) {
-        // Reuse does not pay here: full Newton for the rest of this step and the next few.
-        full_steps_ = newton_.full_newton_steps;
-        full = true;
-      }
       if (fresh || rho < 1) break;
       // An old matrix that no longer contracts: a fresh one here, for the same residual, as the
       // next iteration (its residual would be this one again).
@@ -239,7 +229,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     // At the round-off floor: only an exact Newton step (a fresh matrix) below the floor is
     // accepted (its update leaves an error of order size^2 / scale, or round-off); an old
     // matrix's small steps prove nothing (review finding), so they trigger a fresh one, unless
-    // the old matrix still contracts fast (rho <= 1e-3: its next step meets the tolerance).
+    // the old matrix still contracts fast (NewtonOptions::floor_contraction).
     const bool stalling = it > 1 && size <= newton_.floor * scale;
     const bool stalled = fresh && stalling;
     if (error <= newton_.tolerance * scale || stalled) {
@@ -256,8 +246,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       s.t = t1;
       return it;
     }
-    const double floor_contraction = solver_.dense() ? newton_.floor_contraction_dense : newton_.floor_contraction;
-    if (!fresh && (rho > contraction || (stalling && rho > floor_contraction))) refactor = true;  // slow or stalled, old matrix
+    if (!fresh && (rho > contraction || (stalling && rho > newton_.floor_contraction))) refactor = true;  // slow or stalled, old matrix
     previous = size;
     // After a kept matrix's update (a fresh one's leaves the membrane misfit at second order).
     if (newton_.relax_every_iteration && !solver_.dense() && !fresh) r_start = relax_slaved(s, h, vdot, w);
