@@ -66,6 +66,7 @@ void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd
 }
 
 void GeneralizedAlpha::restore(const Solver& state) {
+  full_steps_ = state.full_steps;
   factor_h_ = -1;
   if (!(state.h > 0)) return;
   matrix_ = state.S;
@@ -92,7 +93,8 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     return StepFailure(e.str());
   };
   auto not_converged = [&](const std::string& why) {
-    factor_h_ = slaved_h_ = -1;  // the retry starts from a fresh matrix
+    factor_h_ = slaved_h_ = -1;
+    if (newton_.reuse_jacobian && solver_.dense()) full_steps_ = newton_.full_newton_steps;  // the retry: full Newton
     std::ostringstream e;
     e << "Newton did not converge at t = " << t1 << " s (step " << h << " s): " << why;
     return StepFailure(e.str());
@@ -123,10 +125,13 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   // Convergence is judged against the accelerations at the step's start: an iterate that has run
   // away cannot make its own increments look small.
   const double scale = std::max(1.0, s.vdot.lpNorm<Eigen::Infinity>());
+  // Full Newton (a fresh matrix at every iteration) while a reused matrix has lately proved slow.
+  bool full = newton_.reuse_jacobian && full_steps_ > 0;
+  if (full) --full_steps_;
   // A step of about the same size keeps the matrix (NewtonOptions::step_reuse): the steps of a
   // run differ from dt in the last bits (output times are t0 + k dt), and an event search's
   // trial steps converge on the switch.
-  bool refactor = !newton_.reuse_jacobian || !(std::abs(factor_h_ - h) <= newton_.step_reuse * h);
+  bool refactor = !newton_.reuse_jacobian || !(std::abs(factor_h_ - h) <= newton_.step_reuse * h) || full;
   double previous = 0;
   int diverging = 0;  // exact Newton steps that grew the increment (NewtonOptions::diverging_steps)
   Eigen::VectorXd last;  // the previous applied increment (dv, db)
@@ -154,7 +159,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       if (!slaved_.empty()) slaved_block_.set(S, slaved_), slaved_h_ = h;
       if (nc) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
       factor_h_ = h;
-      refactor = !newton_.reuse_jacobian;
+      refactor = !newton_.reuse_jacobian || full;
       matrix_ = std::move(S);  // kept for a checkpoint (solver_state)
     };
     bool fresh = refactor;
@@ -174,6 +179,12 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       size = nc ? std::max(dv.lpNorm<Eigen::Infinity>(), db.lpNorm<Eigen::Infinity>()) : dv.lpNorm<Eigen::Infinity>();
       if (!std::isfinite(size)) throw fail("the Newton increment is not finite");
       rho = previous > 0 ? size / previous : 0.0;
+      if (!fresh && rho > contraction && solver_.dense() && !slaved_.empty() && newton_.full_newton_steps > 0) {
+        // A kept matrix's stale coupling of the stiff in-plane coordinates to the bending: full
+        // Newton for the rest of this step and the next few (NewtonOptions::full_newton_steps).
+        full_steps_ = newton_.full_newton_steps;
+        full = true;
+      }
       if (fresh || rho < 1) break;
       // An old matrix that no longer contracts: a fresh one here, for the same residual, as the
       // next iteration (its residual would be this one again).

@@ -48,12 +48,18 @@ struct NewtonOptions {
   /// a sparse LU costs many residuals), `contraction_dense` for a dense one (rigid and reduced
   /// models, where forming and factorizing the matrix costs 2-3 iterations of a rigid or
   /// linear-strain model, about one of a reduced Green-strain one, 3 of the quadratic manifold's).
-  /// A slow kept matrix is replaced by a fresh one, which is kept in its turn: until session 24 a
-  /// slow dense one also switched the next 10 steps to full Newton (a fresh matrix every
-  /// iteration), which measured on the paper's 30 s scene (15 x 10) cost reduced-manifold 17 % and
-  /// reduced-linear 7 % of their CPU and saved reduced-nonlinear nothing
-  /// (docs/performance-history.md, session 24). A looser contraction_dense refactors less but accepts
-  /// more steps from a kept matrix, whose last increment leaves an error of the tolerance's size
+  /// A slow kept matrix is replaced by a fresh one, which is kept in its turn, except where the
+  /// system has slaved coordinates (slaved_velocities(): a reduced Green-strain panel's stiff
+  /// in-plane coordinates): there a slow kept dense matrix, whose stale coupling of those to the
+  /// bending makes its steps lead away, switches the rest of the step and the next
+  /// `full_newton_steps` steps to full Newton (a fresh matrix every iteration). Measured on the
+  /// paper's scene, the reduced-nonlinear model's previous-step matrix contracts by only 0.02-0.2
+  /// and was refactored about 3 times a step anyway, doubling the iterations; without full Newton
+  /// its start-up whip at dt = 0.02 s alternates kept and exact steps until three exact ones grow
+  /// and the step fails. Until session 24 every system's slow kept dense matrix switched: on the
+  /// paper's 30 s scene (15 x 10) that cost reduced-manifold 15 % and reduced-linear 7 % of their
+  /// CPU (docs/performance-history.md, session 24). A looser contraction_dense refactors less but
+  /// accepts more steps from a kept matrix, whose last increment leaves an error of the tolerance's size
   /// (a fresh one's, its square): bench/newton_reuse.py (30 s paper scene, 15 x 10) measured
   /// against 0.01 (the value until session 20): 0.03 saves 8-10 % of reduced-linear's CPU (3-7 %
   /// without the lock, 2-4 % of rigid's, reduced-nonlinear's the same within the noise) and
@@ -78,15 +84,16 @@ struct NewtonOptions {
   int diverging_steps = 3;
   double contraction = 0.25;
   double contraction_dense = 0.03;
+  int full_newton_steps = 10;
   /// Near the round-off floor (`floor`) a kept matrix's step is trusted while it contracts by
   /// at least this much (else a fresh matrix is formed: an old matrix's small steps alone prove
-  /// nothing). Measured on the paper's 30 s scene, 15 x 10 (docs/performance-history.md, sessions
-  /// 21 and 24): a kept sparse matrix whose iterations contract by 2-4e-3 at the floor's size
-  /// converges in its next iteration; 1e-3 there refactored about once a step for nothing (linear
-  /// model: 3583 against 2363 factorizations, 7.5-9.0 against 6.3-6.9 s); a kept dense matrix
-  /// that contracts by 1e-2 near the floor ends its step in one or two more iterations, where
-  /// 1e-3 (the dense value until session 24) formed a fresh one in 40-50 % of the steps
-  /// (reduced-manifold 3185 against 1673 factorizations, 0.272 against 0.257 s CPU).
+  /// nothing), sparse or dense. Measured on the paper's 30 s scene, 15 x 10
+  /// (docs/performance-history.md, sessions 21 and 24): a kept sparse matrix whose iterations
+  /// contract by 2-4e-3 at the floor's size converges in its next iteration; 1e-3 there
+  /// refactored about once a step for nothing (linear model: 3583 against 2363 factorizations,
+  /// 7.5-9.0 against 6.3-6.9 s); a kept dense matrix that contracts by 1e-2 near the floor ends its
+  /// step in one or two more iterations, where 1e-3 (the dense value until session 24) formed a
+  /// fresh one in about half the steps (reduced-manifold: 3185 against 1673 factorizations).
   double floor_contraction = 0.03;
   /// With a sparse matrix, relax the slaved rows (relax_slaved) after every iteration, not only
   /// at the predictor: see GeneralizedAlpha::relax_slaved.
@@ -128,7 +135,7 @@ struct StepFailure : std::runtime_error {
 };
 
 /// One run's integrator: the scheme's parameters and Newton's options, and the run's solver state
-/// (the factorized iteration matrix and the step size it was built for).
+/// (the factorized iteration matrix, the step size it was built for, the reuse policy's counters).
 class GeneralizedAlpha {
  public:
   GeneralizedAlpha(SecondOrderSystem& system, AlphaParameters p, NewtonOptions newton = {});
@@ -144,13 +151,14 @@ class GeneralizedAlpha {
   long factorizations() const { return solver_.factorizations(); }
   /// The solver state a run carries between steps, for a checkpoint: the iteration matrix last
   /// factorized as it was built (S, its step size h, -1: none; with conserved momenta the
-  /// momentum rows' Jacobian).
+  /// momentum rows' Jacobian) and the reuse policy's counter.
   struct Solver {
     BlockMatrix S;
     double h = -1;
     Eigen::MatrixXd momentum_jacobian;
+    int full_steps = 0;
   };
-  Solver solver_state() const { return {matrix_, factor_h_, momentum_jacobian_}; }
+  Solver solver_state() const { return {matrix_, factor_h_, momentum_jacobian_, full_steps_}; }
   /// Resumes from solver_state(): S factorized afresh, so the run goes on bit for bit as the one
   /// that saved it (a factorization is a function of S). Throws StepFailure if S is singular.
   void restore(const Solver& state);
@@ -180,6 +188,8 @@ class GeneralizedAlpha {
   std::vector<int> slaved_;
   SlavedBlock slaved_block_;
   double slaved_h_ = -1;
+  // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps).
+  int full_steps_ = 0;
   // With conserved momenta: dPi/dvdot of the momentum rows at the last factorization, and the LU
   // of its base columns.
   Eigen::MatrixXd momentum_jacobian_;

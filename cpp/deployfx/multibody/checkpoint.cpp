@@ -58,7 +58,7 @@ void check_checkpoint(const Model& m, const Checkpoint& c) {
 // machine's representation (a checkpoint resumes on the machine kind that wrote it).
 namespace {
 
-constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '4'};
+constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '3'};
 
 struct Writer {
   std::string out;
@@ -173,7 +173,7 @@ std::string Checkpoint::to_bytes() const {
   w.put(driver.t0), w.put(static_cast<std::int64_t>(driver.k)), w.put(driver.h_try), w.put(driver.h_contact);
   w.put(driver.contact_bounds.error), w.put(driver.contact_bounds.min_step);
   const integrate::GeneralizedAlpha::Solver& solver = driver.solver;
-  w.put(solver.h);
+  w.put(static_cast<std::int32_t>(solver.full_steps)), w.put(solver.h);
   w.put(solver.S.A), w.put(solver.S.B), w.put(solver.S.C), w.put(solver.S.E), w.put(solver.momentum_jacobian);
   w.put(static_cast<std::int64_t>(locks.size()));
   for (const joint::LockState& L : locks) {
@@ -210,10 +210,12 @@ Checkpoint Checkpoint::from_bytes(const std::string& bytes) {
   r.get(s.q), r.get(s.v), r.get(s.vdot), r.get(s.a), r.get(s.base_accel), r.get(s.vdot_prev);
   r.get(s.h_prev);
   std::int64_t k = 0;
+  std::int32_t full = 0;
   r.get(c.driver.t0), r.get(k), r.get(c.driver.h_try), r.get(c.driver.h_contact);
-  r.get(c.driver.contact_bounds.error), r.get(c.driver.contact_bounds.min_step);
+  r.get(c.driver.contact_bounds.error), r.get(c.driver.contact_bounds.min_step), r.get(full);
   c.driver.k = static_cast<long>(k);
   integrate::GeneralizedAlpha::Solver& solver = c.driver.solver;
+  solver.full_steps = full;
   r.get(solver.h);
   r.get(solver.S.A), r.get(solver.S.B), r.get(solver.S.C), r.get(solver.S.E), r.get(solver.momentum_jacobian);
   c.locks.resize(static_cast<std::size_t>(r.count()));
