@@ -283,6 +283,16 @@ Eigen::MatrixXd FlexibleBody::mesh_rows(const std::vector<int>& mesh_dofs) const
   return out;
 }
 
+void FlexibleBody::add_stiffness_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const {
+  if (modal_) r.noalias() += c * (modal_->linear_stiffness() * x);  // K_free_ is its sparse view
+  else r += c * (K_free_ * x);
+}
+
+void FlexibleBody::add_mass_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const {
+  if (modal_ && !manifold_) r += c * ffi_.mass_product(x);  // M_free_ is ffi_.M() there
+  else r += c * (M_free_ * x);
+}
+
 void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws) const {
   const int n = num_elastic();
   if (n == 0) return;
@@ -293,8 +303,12 @@ void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::Ve
     Eigen::VectorXd f;
     Eigen::MatrixXd T;
     modal_->evaluate(q_el, &f, spec_.beta_K > 0 ? &T : nullptr, ws ? &ws->modal : nullptr);
-    if (manifold_) r += f + spec_.alpha_M * (s.G.transpose() * (L_eta_ * dd));
-    else r += f + spec_.alpha_M * (M_free_ * v_el);
+    if (manifold_) {
+      r += f + spec_.alpha_M * (s.G.transpose() * (L_eta_ * dd));
+    } else {
+      r += f;
+      add_mass_product(spec_.alpha_M, v_el, r);
+    }
     if (spec_.beta_K > 0) r += spec_.beta_K * (T * v_el);
     return;
   }
@@ -303,12 +317,12 @@ void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::Ve
     spec_.model->internal_force(d, &f_int, nullptr);  // Eq. 14 (Green strain)
     for (int i = 0; i < n; ++i) r(i) += f_int(free_[i]);
   } else {
-    r += K_free_ * q_el;
+    add_stiffness_product(1.0, q_el, r);
   }
   // Rayleigh damping. The stiffness-proportional part acts on the strain rate: beta_K K_L d'
   // for linear strain, beta_K K_T(d) d' = beta_K d/dt f_int(d) for Green strain (K_L d' would
   // damp the in-plane motion that large, inextensional bending needs, and stiffen the plate).
-  if (spec_.alpha_M > 0) r += spec_.alpha_M * (M_free_ * v_el);
+  if (spec_.alpha_M > 0) add_mass_product(spec_.alpha_M, v_el, r);
   if (spec_.fidelity == Fidelity::kNonlinear) {
     const double speed = dd.lpNorm<Eigen::Infinity>();
     if (spec_.beta_K > 0 && speed > 0) {  // K_T(d) d' by a central difference of f_int along d'
@@ -322,7 +336,7 @@ void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::Ve
       for (int i = 0; i < n; ++i) r(i) += scale * (fp(free_[i]) - fm(free_[i]));
     }
   } else if (spec_.beta_K > 0) {
-    r += spec_.beta_K * (K_free_ * v_el);
+    add_stiffness_product(spec_.beta_K, v_el, r);
   }
 }
 
@@ -372,7 +386,11 @@ void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, doubl
 double FlexibleBody::strain_energy(const ElasticState& s, const Workspace* ws) const {
   if (num_elastic() == 0) return 0.0;
   if (modal_ && green_) return modal_->strain_energy(s.q, ws ? &ws->modal : nullptr);
-  if (!green_) return 0.5 * s.q.dot(K_free_ * s.q);
+  if (!green_) {
+    Eigen::VectorXd Kq = Eigen::VectorXd::Zero(s.q.size());
+    add_stiffness_product(1.0, s.q, Kq);
+    return 0.5 * s.q.dot(Kq);
+  }
   double U = 0;
   spec_.model->internal_force(s.d, nullptr, nullptr, &U);
   return U;

@@ -183,6 +183,11 @@ class FlexibleBody {
   void manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Vector3d& w,
                       const Eigen::Vector3d& al, double c_a, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
                       Workspace* ws) const;
+  // r += c K_L x and r += c L_c x on the elastic coordinates (not on the manifold): dense in a
+  // Ritz basis, where every entry is nonzero (a sparse product's scatter over a full pattern
+  // costs several times a dense one's sums), over the nonzeros on a mesh.
+  void add_stiffness_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const;
+  void add_mass_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const;
   // c_L L_c + sum_ij cm(i, j) M_ij on eta (manifold).
   Eigen::MatrixXd inertia_combination(double c_L, const Eigen::Matrix3d& cm) const;
   std::vector<int> free_;

@@ -115,7 +115,14 @@ FloatingFrameInertia FloatingFrameInertia::projected(const Eigen::MatrixXd& Phi)
   }
   const Eigen::MatrixXd M = Phi.transpose() * (M_ * Phi);
   p.M_ = M.sparseView(0.0, 0.0);  // keep every nonzero
+  p.M_dense_ = M;
   return p;
+}
+
+Eigen::VectorXd FloatingFrameInertia::mass_product(const Eigen::VectorXd& z) const {
+  check(z, "z");
+  if (dense_) return M_dense_ * z;
+  return M_ * z;
 }
 
 Eigen::Matrix3d FloatingFrameInertia::J0() const {
@@ -256,7 +263,7 @@ double FloatingFrameInertia::kinetic_energy(const Eigen::Vector3d& V, const Eige
   check(dd, "dd");
   const Products Pd = products(d, memo);
   return 0.5 * m_ * V.dot(V) + V.dot(w.cross(first_moment(d))) + V.dot(S1_ * dd) +
-         0.5 * w.dot(inertia_tensor(d, Pd) * w) + w.dot(rotation_coupling(Pd) * dd) + 0.5 * dd.dot(M_ * dd);
+         0.5 * w.dot(inertia_tensor(d, Pd) * w) + w.dot(rotation_coupling(Pd) * dd) + 0.5 * dd.dot(mass_product(dd));
 }
 
 Eigen::Matrix3d FloatingFrameInertia::inertia_tensor_rate(const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
@@ -401,7 +408,8 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::forces(
   // Term by term into f.Q: one allocation, no temporaries.
   f.Q.noalias() = S1_.transpose() * a;
   f.Q.noalias() += g.H.transpose() * al;
-  f.Q.noalias() += M_ * ddd;
+  if (dense_) f.Q.noalias() += M_dense_ * ddd;  // mass_product(ddd), in place
+  else f.Q.noalias() += M_ * ddd;
   f.Q.noalias() += C_.transpose() * centrifugal_weights(w);  // centrifugal_load(w)
   f.Q += g.Gd + 2.0 * g.Gdd;
   return f;

@@ -42,6 +42,9 @@ class FloatingFrameInertia {
   /// int rho N_i^T N_j for components i, j of the displacement, (ndof x ndof).
   SparseMatrix Mij(int i, int j) const;
   const SparseMatrix& M() const { return M_; }              ///< L_c: the element mass matrix
+  /// L_c z: on a dense copy in a Ritz basis (projected(): every entry is nonzero there, and a
+  /// sparse product's scatter over a full pattern costs several times a dense one's sums).
+  Eigen::VectorXd mass_product(const Eigen::VectorXd& z) const;
 
   /// The products M_ij z (index k = 3 i + j) that every d-dependent integral below is built
   /// from: the cost of those integrals. Immutable and shared: the nine stacked in one vector
@@ -177,6 +180,7 @@ class FloatingFrameInertia {
   Eigen::MatrixXd Mij_stacked_;
   bool dense_ = false;
   SparseMatrix M_;
+  Eigen::MatrixXd M_dense_;  // M_ in a Ritz basis (mass_product())
   // c with centrifugal_load(w) = C^T c.
   static Eigen::Matrix<double, 9, 1> centrifugal_weights(const Eigen::Vector3d& w);
   // The nine M_k z[v] into out[v] (resized to 9 ndof), stacked, for V vectors at once.
