@@ -58,14 +58,16 @@ struct NewtonOptions {
   /// its start-up whip at dt = 0.02 s alternates kept and exact steps until three exact ones grow
   /// and the step fails. Until session 24 every system's slow kept dense matrix switched: on the
   /// paper's 30 s scene (15 x 10) that cost reduced-manifold 15 % and reduced-linear 7 % of their
-  /// CPU (docs/performance-history.md, session 24). A looser contraction_dense refactors less but
-  /// accepts more steps from a kept matrix, whose last increment leaves an error of the tolerance's size
-  /// (a fresh one's, its square): bench/newton_reuse.py (30 s paper scene, 15 x 10) measured
-  /// against 0.01 (the value until session 20): 0.03 saves 8-10 % of reduced-linear's CPU (3-7 %
-  /// without the lock, 2-4 % of rigid's, reduced-nonlinear's the same within the noise) and
-  /// leaves the rigid undamped 1000 s run's energy error at 9.1e-7 of the peak kinetic energy
-  /// (8.6e-7 at 0.01); 0.3 saves 10-14 % but takes it to 1.2e-6, past the 1e-6 that
-  /// tests/test_extremes.py holds it to.
+  /// CPU (docs/performance-history.md, session 24). A looser contraction_dense refactors less
+  /// but accepts more steps from a kept matrix, whose last increment leaves an error of the
+  /// tolerance's size (a fresh one's, its square): bench/newton_reuse.py (30 s paper scene,
+  /// 15 x 10) measured against 0.01 (the value until session 20): 0.03 saves 8-10 % of
+  /// reduced-linear's CPU (3-7 % without the lock, 2-4 % of rigid's, reduced-nonlinear's the same
+  /// within the noise) and leaves the rigid undamped 1000 s run's energy error at 9.1e-7 of the
+  /// peak kinetic energy (8.6e-7 at 0.01); 0.3 saves 10-14 % but takes it to 1.2e-6, past the
+  /// 1e-6 that tests/test_extremes.py holds it to. With session 24's floor rule the error is
+  /// 8.6e-7 at 0.03 and 0.1 but 1.16e-6 at 0.01 (not monotone in the threshold: the kept steps'
+  /// errors have signs), and reduced-manifold's CPU is flat from 0.01 to 0.1.
   bool reuse_jacobian = true;
   /// A matrix built for a step size within this relative distance of h is kept for a step of
   /// size h: its c_q = h^2 beta c is off by twice that, so the iteration contracts at about
