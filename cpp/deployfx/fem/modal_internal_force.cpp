@@ -176,7 +176,7 @@ void ModalInternalForce::polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd*
   int first = 0;
   for (const Eigen::MatrixXd& Bb : B_blocks_) {
     const int n = static_cast<int>(Bb.rows());
-    b.segment(first, n).noalias() += Bb.selfadjointView<Eigen::Upper>() * pairs.segment(first, n);
+    b.segment(first, n).noalias() += Bb * pairs.segment(first, n);
     first += n;
   }
   A->resize(r, r);
