@@ -162,6 +162,10 @@ void FlexibleBody::align_Mij() {
   for (int im = 0; im < 9; ++im) {
     const Eigen::VectorXd vals = block_->aligned(ffi_.Mij(im / 3, im % 3));
     AlignedNonzeros& nz = Mij_nonzeros_[im];
+    if (modal_) {  // a dense block: every value
+      nz.value.assign(vals.data(), vals.data() + vals.size());
+      continue;
+    }
     for (Eigen::Index n = 0; n < vals.size(); ++n)
       if (vals[n] != 0.0) nz.index.push_back(static_cast<int>(n)), nz.value.push_back(vals[n]);
   }
@@ -173,6 +177,10 @@ void FlexibleBody::mass_combination(double c_a, const Eigen::Matrix3d& c, Eigen:
     const double cim = c(im / 3, im % 3);
     if (cim == 0.0) continue;
     const AlignedNonzeros& nz = Mij_nonzeros_[im];
+    if (nz.index.empty() && static_cast<Eigen::Index>(nz.value.size()) == vals.size()) {  // every value (align_Mij)
+      vals += cim * Eigen::Map<const Eigen::VectorXd>(nz.value.data(), static_cast<Eigen::Index>(nz.value.size()));
+      continue;
+    }
     const int* index = nz.index.data();
     const double* value = nz.value.data();
     for (std::size_t k = 0; k < nz.index.size(); ++k) vals[index[k]] += cim * value[k];
