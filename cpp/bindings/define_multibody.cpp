@@ -327,10 +327,11 @@ void define_multibody(py::module_& m) {
       .def(
           "base_velocity_jacobian",
           [](const Model& s, const Eigen::VectorXd& q, PyData* data) {
-            s.check_state(q, Eigen::VectorXd::Zero(s.num_velocities()));
+            const Eigen::VectorXd v = Eigen::VectorXd::Zero(s.num_velocities());
+            s.check_state(q, v);
             if (!s.base_free()) throw std::invalid_argument("base_velocity_jacobian: the base is fixed");
             DataArg d(s, data);
-            return Eigen::MatrixXd(base_velocity_jacobian(s, *d.data, q, 0.0));
+            return Eigen::MatrixXd(base_velocity_jacobian(s, *d.data, q, v, 0.0));
           },
           py::arg("q"), py::kw_only(), py::arg("data") = nullptr,
           "dPi/d(v_W, w_B), (6 x 6), from the composite inertia (the momentum polish's matrix).")

@@ -68,8 +68,9 @@ Eigen::VectorXd momentum(const Model& m, Data& d, const Eigen::VectorXd& q, cons
   return Pi;
 }
 
-Eigen::Matrix<double, 6, 6> base_velocity_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q, double t) {
-  forward_kinematics(m, d, q, Eigen::VectorXd::Zero(m.num_velocities()), nullptr, t);
+Eigen::Matrix<double, 6, 6> base_velocity_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q,
+                                                   const Eigen::VectorXd& v, double t) {
+  forward_kinematics(m, d, q, v, nullptr, t);  // only the positions are read
   // X = [R 0; o~ R R] carries a body's momentum (its axes, about its origin) to W about W's
   // origin; X^T its velocity the other way.
   auto congruence = [](const Matrix6d& M, const Eigen::Matrix3d& R, const Eigen::Vector3d& o) {

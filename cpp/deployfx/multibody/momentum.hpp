@@ -26,8 +26,10 @@ Vector6<double> base_momentum(const Model& m, const Data& d);
 /// composite inertia of the whole system about W's origin, I_O = sum_b X_b M_b X_b^T, applied to
 /// the base's velocity at W's origin, (v_W - w x r_W, w), w = R_WB w_B (Featherstone 2008,
 /// Sec. 6.2: the composite rigid body). Equal to momentum_jacobian's base columns at c_q = 0;
-/// stages the kinematics in d.
-Eigen::Matrix<double, 6, 6> base_velocity_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q, double t);
+/// stages the kinematics in d at (q, v). The velocities v do not enter it: given the caller's,
+/// a momentum(q, v) that follows finds the kinematics staged (the momentum polish).
+Eigen::Matrix<double, 6, 6> base_velocity_jacobian(const Model& m, Data& d, const Eigen::VectorXd& q,
+                                                   const Eigen::VectorXd& v, double t);
 /// The momentum's tangent along a derivative pass (seeds.hpp) at the staged state: each body's
 /// spatial inertia and momentum there, prepared once for all the passes.
 struct MomentumTangent {

@@ -37,8 +37,8 @@ Eigen::MatrixXd TreeSystem::momentum_jacobian(const Eigen::VectorXd& q, const Ei
   return multibody::momentum_jacobian(m_, d_, q, v, c_v, c_q);
 }
 
-Eigen::MatrixXd TreeSystem::conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd&, double t) {
-  return base_velocity_jacobian(m_, d_, q, t);
+Eigen::MatrixXd TreeSystem::conserved_velocity_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
+  return base_velocity_jacobian(m_, d_, q, v, t);
 }
 
 Eigen::VectorXd TreeSystem::gaps(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double) {
