@@ -170,6 +170,13 @@ Vector2d GrooveElement::point(double u) const {
   return m_ + R_ * Vector2d(std::cos(phi), std::sin(phi));
 }
 
+std::pair<Vector2d, Vector2d> GrooveElement::frame(double u) const {
+  if (kind_ == Kind::kLine) return {point(u), tangent(u)};
+  const double s = sweep_ > 0 ? 1.0 : -1.0, phi = phi0_ + s * u / R_;
+  const double c = std::cos(phi), sn = std::sin(phi);
+  return {m_ + R_ * Vector2d(c, sn), s * Vector2d(-sn, c)};
+}
+
 double GrooveElement::project(const Vector2d& c, bool* interior) const {
   if (kind_ == Kind::kLine) {
     const double u = (c - a_).dot(b_ - a_) / length_;
@@ -258,18 +265,21 @@ PinQuery GrooveProfile::query(int f, const Vector2d& c, double rho) const {
   PinQuery q;
   q.facet = f;
   double best = kInf, u_best = 0;
+  std::pair<Vector2d, Vector2d> frame_best;  // point and tangent at u_best
   for (int i = 0; i < F.count; ++i) {
     const int k = (F.first + i) % num_elements();
     const GrooveElement& e = elem(k);
     bool interior = false;
     const double u = e.project(c, &interior);
     if (interior) {
-      const double d = (c - e.point(u)).norm();
+      const std::pair<Vector2d, Vector2d> pt = e.frame(u);
+      const double d = (c - pt.first).norm();
       if (d < best) {
         best = d;
         q.element = k;
         q.at_vertex = false;
         u_best = u;
+        frame_best = pt;
       }
     }
     if (i + 1 < F.count || F.loop) {  // the facet's inner vertex at the end of element k
@@ -293,8 +303,8 @@ PinQuery GrooveProfile::query(int f, const Vector2d& c, double rho) const {
   const GrooveElement& e = elem(q.element);
   const double kappa_sign = e.kind() == GrooveElement::Kind::kArc ? (e.sweep() > 0 ? -1.0 : 1.0) : 0.0;
   if (!q.at_vertex) {
-    q.point = e.point(u_best);
-    q.n = left(e.tangent(u_best));
+    q.point = frame_best.first;
+    q.n = left(frame_best.second);
     q.gap = (c - q.point).dot(q.n) - rho;
     q.chain_length = offset_[static_cast<std::size_t>(q.element)] + u_best;
     if (e.kind() == GrooveElement::Kind::kArc) {

@@ -26,6 +26,7 @@
 //   analytic: d^2 gap / dc^2 = H.
 #include <Eigen/Core>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace deployfx::contact {
@@ -55,6 +56,9 @@ class GrooveElement {
   /// Unit travel direction at arc length u in [0, length] from the start.
   Eigen::Vector2d tangent(double u) const;
   Eigen::Vector2d point(double u) const;
+  /// point(u) and tangent(u) together, the same values (an arc's angle and its sine and cosine
+  /// once: GrooveProfile::query asks for both at every contact evaluation).
+  std::pair<Eigen::Vector2d, Eigen::Vector2d> frame(double u) const;
   /// The point of the element nearest to c, as its arc length u in [0, length]; `interior` is
   /// false when the nearest point of the element's line or circle lies outside the element (u is
   /// then clamped to the nearer end).
