@@ -9,6 +9,7 @@
 #include "deployfx/fem/constrained_solve.hpp"
 #include "deployfx/fem/parity.hpp"
 #include "deployfx/math/check.hpp"
+#include "deployfx/math/sparse_rows.hpp"
 
 namespace deployfx::body {
 
@@ -114,6 +115,7 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
       free_ = manifold_->bending();
       K_free_ = modal_->linear_stiffness().sparseView(0.0, 0.0);
       M_free_ = fem::restrict(ffi_.M(), free_);
+      M_rows_ = M_free_;
       std::vector<int> all(static_cast<std::size_t>(n));
       std::iota(all.begin(), all.end(), 0);
       block_.emplace(Eigen::SparseMatrix<double>(Eigen::MatrixXd::Ones(n, n).sparseView()), all);
@@ -145,6 +147,8 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     K_free_ = fem::restrict(model.stiffness(), free_);
     K_free_.prune([](Eigen::Index, Eigen::Index, double value) { return value != 0.0; });
     M_free_ = fem::restrict(ffi_.M(), free_);  // pruned in FloatingFrameInertia
+    K_rows_ = K_free_;
+    M_rows_ = M_free_;
     // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
     block_.emplace(model.stiffness(), free_);
     M_vals_ = block_->aligned(ffi_.M());
@@ -293,12 +297,19 @@ Eigen::MatrixXd FlexibleBody::mesh_rows(const std::vector<int>& mesh_dofs) const
 
 void FlexibleBody::add_stiffness_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const {
   if (modal_) r.noalias() += c * (modal_->linear_stiffness() * x);  // K_free_ is its sparse view
-  else r += c * (K_free_ * x);
+  else add_rows_product(c, K_rows_, x, r);
 }
 
 void FlexibleBody::add_mass_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const {
   if (modal_ && !manifold_) r += c * ffi_.mass_product(x);  // M_free_ is ffi_.M() there
-  else r += c * (M_free_ * x);
+  else add_rows_product(c, M_rows_, x, r);
+}
+
+void FlexibleBody::add_rows_product(double c, const RowMajorMatrix& A, const Eigen::VectorXd& x,
+                                    Eigen::Ref<Eigen::VectorXd> r) {
+  Eigen::VectorXd y(A.rows());
+  rows_product<1, false>(A, {x.data()}, {y.data()}, c);  // r += c * (A * x) as Eigen forms it
+  r += y;
 }
 
 void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws) const {

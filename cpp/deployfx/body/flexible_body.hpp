@@ -193,6 +193,12 @@ class FlexibleBody {
   std::vector<int> free_;
   std::vector<int> in_plane_;  // in_plane_coordinates()
   Eigen::SparseMatrix<double> K_free_, M_free_;
+  // The same by rows where the residual multiplies them (a mesh's K_L and L_c, the manifold's
+  // L_c): math/sparse_rows.hpp, Eigen's sums without its scatter's latency.
+  using RowMajorMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  RowMajorMatrix K_rows_, M_rows_;
+  static void add_rows_product(double c, const RowMajorMatrix& A, const Eigen::VectorXd& x,
+                               Eigen::Ref<Eigen::VectorXd> r);
   std::optional<fem::FreeBlock> block_;
   Eigen::VectorXd M_vals_, K_vals_;
   // Full nonlinear fidelity: each element entry's slot in block()'s values (-1: a fixed dof), so

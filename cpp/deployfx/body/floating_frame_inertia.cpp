@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "deployfx/math/so3.hpp"
+#include "deployfx/math/sparse_rows.hpp"
 
 namespace deployfx::body {
 
@@ -15,10 +16,11 @@ using fem::kNodeDofs;
 
 namespace {
 
-// y_v = A z_v (A column-major: scattered by row) and, with `transposed`, yt_v = A^T z_v (gathered
-// by column) for V vectors in one pass over A: each sum in the order of Eigen's sparse product
-// (column by column, from zero).
-template <int V, bool transposed>
+// y_v = A z_v (A column-major: scattered by row) and yt_v = A^T z_v (gathered by column) for V
+// vectors in one pass over A: each sum in the order of Eigen's sparse product (column by column,
+// from zero). The gathered sums hide the scatter's latency here (by rows the same two products
+// took as long: two passes).
+template <int V>
 void sparse_pass(const Eigen::SparseMatrix<double>& A, const std::array<const double*, V>& z,
                  const std::array<double*, V>& y, const std::array<double*, V>& yt) {
   const Eigen::Index n = A.cols();
@@ -32,10 +34,9 @@ void sparse_pass(const Eigen::SparseMatrix<double>& A, const std::array<const do
     for (int k = outer[c]; k < outer[c + 1]; ++k)
       for (int v = 0; v < V; ++v) {
         y[v][row[k]] += val[k] * zc[v];
-        if (transposed) sum[v] += val[k] * z[v][row[k]];
+        sum[v] += val[k] * z[v][row[k]];
       }
-    if (transposed)
-      for (int v = 0; v < V; ++v) yt[v][c] = sum[v];
+    for (int v = 0; v < V; ++v) yt[v][c] = sum[v];
   }
 }
 
@@ -46,6 +47,7 @@ FloatingFrameInertia::FloatingFrameInertia(const fem::ShellModel& model) : M_(mo
   // consistent mass couples like components only): M_ keeps its nonzeros alone, so the products
   // with it (the inertial force's M ddd once per residual) do 28 % of the work for the same sums.
   M_.prune([](Eigen::Index, Eigen::Index, double value) { return value != 0.0; });
+  M_rows_ = M_;
   const int n = model.num_dofs();
   S0_.setZero();
   E0_.setZero();
@@ -94,6 +96,7 @@ FloatingFrameInertia::FloatingFrameInertia(const fem::ShellModel& model) : M_(mo
     Mij_[k].resize(n, n);
     Mij_[k].setFromTriplets(t[k].begin(), t[k].end());
   }
+  for (int i = 0; i < 3; ++i) Mii_rows_[i] = Mij_[4 * i];
 }
 
 FloatingFrameInertia FloatingFrameInertia::projected(const Eigen::MatrixXd& Phi) const {
@@ -123,6 +126,12 @@ Eigen::VectorXd FloatingFrameInertia::mass_product(const Eigen::VectorXd& z) con
   check(z, "z");
   if (dense_) return M_dense_ * z;
   return M_ * z;
+}
+
+void FloatingFrameInertia::mass_product_add(const Eigen::VectorXd& z, Eigen::VectorXd& y) const {
+  // Eigen's M_ z by rows (math/sparse_rows.hpp): the scatter's latency took half of forces()'
+  // time on the paper's 15 x 10 mesh.
+  rows_product<1, true>(M_rows_, {z.data()}, {y.data()});
 }
 
 Eigen::Matrix3d FloatingFrameInertia::J0() const {
@@ -190,9 +199,10 @@ void FloatingFrameInertia::compute_products(const std::array<const Eigen::Vector
     for (int v = 0; v < V; ++v) out[v]->noalias() = Mij_stacked_ * *z[v];
     return;
   }
-  // A sparse product streams its matrix from memory: with M_ji = M_ij^T, one pass over M_ij
-  // (column-major) gives both y = M_ij z (scattered by row) and y' = M_ji z (gathered by column),
-  // six passes instead of nine; and the V vectors share each pass (their sums' chains interleave).
+  // With M_ji = M_ij^T, the M_ij with i <= j give all nine: one pass over M_ij (column-major)
+  // gives both y = M_ij z (scattered by row) and y' = M_ji z (gathered by column), and M_ii z is
+  // gathered by rows (math/sparse_rows.hpp: 8 % of inertial_forces() on the paper's 15 x 10 mesh); the V
+  // vectors share each pass (their sums' chains interleave).
   for (int i = 0; i < 3; ++i)
     for (int j = i; j < 3; ++j) {
       std::array<const double*, V> zv;
@@ -202,8 +212,8 @@ void FloatingFrameInertia::compute_products(const std::array<const Eigen::Vector
         y[v] = out[v]->data() + (3 * i + j) * n;
         yt[v] = out[v]->data() + (3 * j + i) * n;
       }
-      if (i == j) sparse_pass<V, false>(Mij_[3 * i + j], zv, y, yt);
-      else sparse_pass<V, true>(Mij_[3 * i + j], zv, y, yt);
+      if (i == j) rows_product<V, false>(Mii_rows_[i], zv, y);
+      else sparse_pass<V>(Mij_[3 * i + j], zv, y, yt);
     }
 }
 
@@ -409,7 +419,7 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::forces(
   f.Q.noalias() = S1_.transpose() * a;
   f.Q.noalias() += g.H.transpose() * al;
   if (dense_) f.Q.noalias() += M_dense_ * ddd;  // mass_product(ddd), in place
-  else f.Q.noalias() += M_ * ddd;
+  else mass_product_add(ddd, f.Q);
   f.Q.noalias() += C_.transpose() * centrifugal_weights(w);  // centrifugal_load(w)
   f.Q += g.Gd + 2.0 * g.Gdd;
   return f;

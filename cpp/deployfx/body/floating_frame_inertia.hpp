@@ -177,10 +177,16 @@ class FloatingFrameInertia {
   // of a (9 r x r) matrix, so that the nine products are one. Sparse, M_ji = M_ij^T, and
   // products() reads only the M_ij with i <= j (one pass gives M_ij z and M_ji z).
   std::array<SparseMatrix, 9> Mij_;
+  std::array<Eigen::SparseMatrix<double, Eigen::RowMajor>, 3> Mii_rows_;  // M_ii by rows (products())
   Eigen::MatrixXd Mij_stacked_;
   bool dense_ = false;
   SparseMatrix M_;
+  // M_ by rows (a mesh's; empty in a Ritz basis), for mass_product_add().
+  Eigen::SparseMatrix<double, Eigen::RowMajor> M_rows_;
   Eigen::MatrixXd M_dense_;  // M_ in a Ritz basis (mass_product())
+  // y += M_ z for a mesh, by rows: the same sums in the same order as Eigen's column-major
+  // product (each entry of y takes its terms column by column, onto its value); y and z distinct.
+  void mass_product_add(const Eigen::VectorXd& z, Eigen::VectorXd& y) const;
   // c with centrifugal_load(w) = C^T c.
   static Eigen::Matrix<double, 9, 1> centrifugal_weights(const Eigen::Vector3d& w);
   // The nine M_k z[v] into out[v] (resized to 9 ndof), stacked, for V vectors at once.

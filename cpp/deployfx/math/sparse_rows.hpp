@@ -1,0 +1,42 @@
+#pragma once
+// Sparse matrix-vector products by rows with the sums of Eigen's column-major product. Eigen's
+// A z for a column-major A scatters column by column, y_r += A_rc z_c (c ascending), a
+// read-modify-write through memory per term whose store-to-load latency bounds the loop; row r's
+// terms in that order are row r's entries of A by rows, and gathered there each y_r is one chain
+// in a register. Each term is fused where the target has FMA, as the compiler contracts Eigen's
+// scatter there (its heuristics for chains in a register differ: GCC's Zen tuning leaves some
+// unfused), so the results are Eigen's bit for bit.
+#include <Eigen/SparseCore>
+#include <array>
+#include <cmath>
+
+namespace deployfx {
+
+/// a b + s, fused where the target has FMA; a plain product and sum otherwise.
+inline double fused(double a, double b, double s) {
+#ifdef __FMA__
+  return std::fma(a, b, s);
+#else
+  return s + a * b;
+#endif
+}
+
+/// y_v = (alpha A) z_v (kOnto false: from zero) or y_v += A z_v (kOnto true: onto y_v's values)
+/// for V vectors in one pass over A's rows; z_v and y_v distinct. Eigen forms alpha * (A * z)
+/// from zero with each term (alpha A_rc) z_c, then adds it where asked.
+template <int V, bool kOnto>
+void rows_product(const Eigen::SparseMatrix<double, Eigen::RowMajor>& A, const std::array<const double*, V>& z,
+                  const std::array<double*, V>& y, double alpha = 1.0) {
+  const int* outer = A.outerIndexPtr();
+  const int* col = A.innerIndexPtr();
+  const double* val = A.valuePtr();
+  for (Eigen::Index r = 0; r < A.rows(); ++r) {
+    std::array<double, V> sum;
+    for (int v = 0; v < V; ++v) sum[v] = kOnto ? y[v][r] : 0.0;
+    for (int k = outer[r]; k < outer[r + 1]; ++k)
+      for (int v = 0; v < V; ++v) sum[v] = fused(alpha * val[k], z[v][col[k]], sum[v]);
+    for (int v = 0; v < V; ++v) y[v][r] = sum[v];
+  }
+}
+
+}  // namespace deployfx
