@@ -157,40 +157,32 @@ std::vector<int> ModalInternalForce::quartic_blocks() const {
   return sizes;
 }
 
-void ModalInternalForce::polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A, Eigen::MatrixXd* B,
-                                    Memo* memo) const {
-  if (memo && memo->eta.size() == eta.size() && memo->eta == eta) {
-    *A = memo->A;
-    *B = memo->B;
-    return;
-  }
+void ModalInternalForce::polynomial(const Eigen::VectorXd& eta, Memo& memo) const {
+  if (memo.eta.size() == eta.size() && memo.eta == eta) return;
   const int r = size();
   const int np = static_cast<int>(slots_.size());
-  Eigen::VectorXd pairs(np);  // eta_k eta_l, twice for k < l (B_kl = B_lk)
+  Eigen::VectorXd& pairs = memo.pairs;  // eta_k eta_l, twice for k < l (B_kl = B_lk)
+  pairs.resize(np);
   for (int s = 0; s < np; ++s) {
     const auto [k, l] = slots_[s];
     pairs(s) = (l == k ? 1.0 : 2.0) * eta(k) * eta(l);
   }
-  const Eigen::VectorXd a = A_ * eta;
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(np);
+  memo.a.noalias() = A_ * eta;
+  memo.b.setZero(np);
   int first = 0;
   for (const Eigen::MatrixXd& Bb : B_blocks_) {
     const int n = static_cast<int>(Bb.rows());
-    b.segment(first, n).noalias() += Bb * pairs.segment(first, n);
+    memo.b.segment(first, n).noalias() += Bb * pairs.segment(first, n);
     first += n;
   }
-  A->resize(r, r);
-  B->resize(r, r);
+  memo.A.resize(r, r);
+  memo.B.resize(r, r);
   for (int s = 0; s < np; ++s) {
     const auto [i, j] = slots_[s];
-    (*A)(i, j) = (*A)(j, i) = a(s);
-    (*B)(i, j) = (*B)(j, i) = b(s);
+    memo.A(i, j) = memo.A(j, i) = memo.a(s);
+    memo.B(i, j) = memo.B(j, i) = memo.b(s);
   }
-  if (memo) {
-    memo->eta = eta;
-    memo->A = *A;
-    memo->B = *B;
-  }
+  memo.eta = eta;
 }
 
 void ModalInternalForce::evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f, Eigen::MatrixXd* T,
@@ -203,10 +195,11 @@ void ModalInternalForce::evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f
     if (T) *T = K_;
     return;
   }
-  Eigen::MatrixXd A, B;
-  polynomial(eta, &A, &B, memo);
-  if (f) *f = K_ * eta + (0.5 * A + B / 6.0) * eta;
-  if (T) *T = K_ + A + 0.5 * B;
+  Memo local;  // without a run's memo
+  Memo& m = memo ? *memo : local;
+  polynomial(eta, m);
+  if (f) *f = K_ * eta + (0.5 * m.A + m.B / 6.0) * eta;
+  if (T) *T = K_ + m.A + 0.5 * m.B;
 }
 
 double ModalInternalForce::strain_energy(const Eigen::VectorXd& eta, const Memo* memo) const {
@@ -235,9 +228,9 @@ double ModalInternalForce::strain_energy(const Eigen::VectorXd& eta, const Memo*
       return U_m + f_m.dot(delta) + 0.5 * delta.dot(T_delta);
     }
   }
-  Eigen::MatrixXd A, B;
-  polynomial(eta, &A, &B, nullptr);
-  return 0.5 * eta.dot(K_ * eta) + eta.dot(A * eta) / 6.0 + eta.dot(B * eta) / 24.0;
+  Memo m;  // the run's memo keeps its evaluation (the next residual's, or its tangent's)
+  polynomial(eta, m);
+  return 0.5 * eta.dot(K_ * eta) + eta.dot(m.A * eta) / 6.0 + eta.dot(m.B * eta) / 24.0;
 }
 
 }  // namespace deployfx::fem

@@ -44,6 +44,7 @@ class ModalInternalForce {
   struct Memo {
     Eigen::VectorXd eta;
     Eigen::MatrixXd A, B;
+    Eigen::VectorXd pairs, a, b;  // polynomial()'s work space (kept sized: no allocation)
   };
   /// f(eta) and/or T(eta) (either may be null); `memo` (may be null) is read and updated.
   void evaluate(const Eigen::VectorXd& eta, Eigen::VectorXd* f, Eigen::MatrixXd* T, Memo* memo = nullptr) const;
@@ -53,8 +54,8 @@ class ModalInternalForce {
   static constexpr double kTaylorReach = 1e-8;
 
  private:
-  // A(eta) and B(eta) as (r x r) matrices, from the memo if it holds eta (recorded there otherwise).
-  void polynomial(const Eigen::VectorXd& eta, Eigen::MatrixXd* A, Eigen::MatrixXd* B, Memo* memo) const;
+  // A(eta) and B(eta) as (r x r) matrices into memo.A and memo.B, unless it holds them for eta.
+  void polynomial(const Eigen::VectorXd& eta, Memo& memo) const;
   bool green_ = false;
   Eigen::MatrixXd K_;
   // The coefficients on the pairs i <= j (every A_k and B_kl is symmetric, as T is), packed in
