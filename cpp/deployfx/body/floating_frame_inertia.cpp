@@ -201,8 +201,8 @@ void FloatingFrameInertia::compute_products(const std::array<const Eigen::Vector
   }
   // With M_ji = M_ij^T, the M_ij with i <= j give all nine: one pass over M_ij (column-major)
   // gives both y = M_ij z (scattered by row) and y' = M_ji z (gathered by column), and M_ii z is
-  // gathered by rows (math/sparse_rows.hpp: 8 % of inertial_forces() on the paper's 15 x 10 mesh); the V
-  // vectors share each pass (their sums' chains interleave).
+  // gathered by rows (math/sparse_rows.hpp: 8 % of inertial_forces() on the paper's 15 x 10
+  // mesh); the V vectors share each pass (their sums' chains interleave).
   for (int i = 0; i < 3; ++i)
     for (int j = i; j < 3; ++j) {
       std::array<const double*, V> zv;

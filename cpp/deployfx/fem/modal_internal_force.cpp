@@ -228,7 +228,7 @@ double ModalInternalForce::strain_energy(const Eigen::VectorXd& eta, const Memo*
       return U_m + f_m.dot(delta) + 0.5 * delta.dot(T_delta);
     }
   }
-  Memo m;  // the run's memo keeps its evaluation (the next residual's, or its tangent's)
+  Memo m;  // scratch: the run's memo (read-only here) keeps its last Newton evaluation
   polynomial(eta, m);
   return 0.5 * eta.dot(K_ * eta) + eta.dot(m.A * eta) / 6.0 + eta.dot(m.B * eta) / 24.0;
 }

@@ -21,9 +21,9 @@ inline double fused(double a, double b, double s) {
 #endif
 }
 
-/// y_v = (alpha A) z_v (kOnto false: from zero) or y_v += A z_v (kOnto true: onto y_v's values)
-/// for V vectors in one pass over A's rows; z_v and y_v distinct. Eigen forms alpha * (A * z)
-/// from zero with each term (alpha A_rc) z_c, then adds it where asked.
+/// y_v = (alpha A) z_v, summed from zero (kOnto false) or onto y_v's values (kOnto true), for V
+/// vectors in one pass over A's rows; z_v and y_v distinct. (Eigen forms alpha * (A * z) from
+/// zero with the terms (alpha A_rc) z_c, and adds it to a vector after.)
 template <int V, bool kOnto>
 void rows_product(const Eigen::SparseMatrix<double, Eigen::RowMajor>& A, const std::array<const double*, V>& z,
                   const std::array<double*, V>& y, double alpha = 1.0) {
