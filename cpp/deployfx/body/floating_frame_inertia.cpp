@@ -18,8 +18,7 @@ namespace {
 
 // y_v = A z_v (A column-major: scattered by row) and yt_v = A^T z_v (gathered by column) for V
 // vectors in one pass over A: each sum in the order of Eigen's sparse product (column by column,
-// from zero). The gathered sums hide the scatter's latency here (by rows the same two products
-// took as long: two passes).
+// from zero); the gathered sums hide the scatter's latency (by rows: two passes, no faster).
 template <int V>
 void sparse_pass(const Eigen::SparseMatrix<double>& A, const std::array<const double*, V>& z,
                  const std::array<double*, V>& y, const std::array<double*, V>& yt) {
@@ -129,9 +128,7 @@ Eigen::VectorXd FloatingFrameInertia::mass_product(const Eigen::VectorXd& z) con
 }
 
 void FloatingFrameInertia::mass_product_add(const Eigen::VectorXd& z, Eigen::VectorXd& y) const {
-  // Eigen's M_ z by rows (math/sparse_rows.hpp): the scatter's latency took half of forces()'
-  // time on the paper's 15 x 10 mesh.
-  rows_product<1, true>(M_rows_, {z.data()}, {y.data()});
+  rows_product<1, true>(M_rows_, {z.data()}, {y.data()});  // Eigen's sums, without its scatter
 }
 
 Eigen::Matrix3d FloatingFrameInertia::J0() const {
