@@ -124,11 +124,14 @@ FloatingFrameInertia FloatingFrameInertia::projected(const Eigen::MatrixXd& Phi)
 Eigen::VectorXd FloatingFrameInertia::mass_product(const Eigen::VectorXd& z) const {
   check(z, "z");
   if (dense_) return M_dense_ * z;
-  return M_ * z;
+  Eigen::VectorXd y(z.size());
+  rows_product<1, false>(M_rows_, {z.data()}, {y.data()});  // M_ z as Eigen forms it
+  return y;
 }
 
 void FloatingFrameInertia::mass_product_add(const Eigen::VectorXd& z, Eigen::VectorXd& y) const {
-  rows_product<1, true>(M_rows_, {z.data()}, {y.data()});  // Eigen's sums, without its scatter
+  if (dense_) y.noalias() += M_dense_ * z;
+  else rows_product<1, true>(M_rows_, {z.data()}, {y.data()});  // Eigen's sums, without its scatter
 }
 
 Eigen::Matrix3d FloatingFrameInertia::J0() const {
@@ -415,8 +418,7 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::forces(
   // Term by term into f.Q: one allocation, no temporaries.
   f.Q.noalias() = S1_.transpose() * a;
   f.Q.noalias() += g.H.transpose() * al;
-  if (dense_) f.Q.noalias() += M_dense_ * ddd;  // mass_product(ddd), in place
-  else mass_product_add(ddd, f.Q);
+  mass_product_add(ddd, f.Q);
   f.Q.noalias() += C_.transpose() * centrifugal_weights(w);  // centrifugal_load(w)
   f.Q += g.Gd + 2.0 * g.Gdd;
   return f;

@@ -43,7 +43,8 @@ class FloatingFrameInertia {
   SparseMatrix Mij(int i, int j) const;
   const SparseMatrix& M() const { return M_; }              ///< L_c: the element mass matrix
   /// L_c z: on a dense copy in a Ritz basis (projected(): every entry is nonzero there, and a
-  /// sparse product's scatter over a full pattern costs several times a dense one's sums).
+  /// sparse product's scatter over a full pattern costs several times a dense one's sums); on a
+  /// mesh by rows, Eigen's sums (math/sparse_rows.hpp).
   Eigen::VectorXd mass_product(const Eigen::VectorXd& z) const;
 
   /// The products M_ij z (index k = 3 i + j) that every d-dependent integral below is built
@@ -181,12 +182,12 @@ class FloatingFrameInertia {
   Eigen::MatrixXd Mij_stacked_;
   bool dense_ = false;
   SparseMatrix M_;
-  // M_ by rows (a mesh's; empty in a Ritz basis), for mass_product_add().
+  // M_ by rows (a mesh's; empty in a Ritz basis), for mass_product() and mass_product_add().
   Eigen::SparseMatrix<double, Eigen::RowMajor> M_rows_;
   Eigen::MatrixXd M_dense_;  // M_ in a Ritz basis (mass_product())
-  // y += M_ z for a mesh, by rows (math/sparse_rows.hpp): the same sums in the same order as
-  // Eigen's column-major product, whose scatter's latency took half of forces()' time on the
-  // paper's 15 x 10 mesh; y and z distinct.
+  // y += M_ z: on M_dense_ in a Ritz basis; for a mesh by rows (math/sparse_rows.hpp), the same
+  // sums in the same order as Eigen's column-major product, whose scatter's latency took half of
+  // forces()' time on the paper's 15 x 10 mesh; y and z distinct.
   void mass_product_add(const Eigen::VectorXd& z, Eigen::VectorXd& y) const;
   // c with centrifugal_load(w) = C^T c.
   static Eigen::Matrix<double, 9, 1> centrifugal_weights(const Eigen::Vector3d& w);
