@@ -181,3 +181,28 @@ def test_momentum_jacobian_equals_central_differences(case):
     assert_matches(sys.momentum_jacobian(q, v, 0.0, 1.0, data=data), fd_q, groups, "dPi/dq")
     assert_matches(sys.momentum_jacobian(q, v, 1.0, 0.01, data=data), fd_v + 0.01 * fd_q, groups, "combination")
 
+
+
+@pytest.mark.parametrize("fidelity", FIDELITIES)
+def test_refreshed_matrix_is_the_new_elastic_block_in_the_old_border(fidelity):
+    """A kept matrix's elastic block refreshed at a new state (what full Newton on a reduced
+    Green-strain panel does between whole matrices; NewtonOptions::elastic_refreshes) is the
+    Newton matrix of the new state there, checked against central differences above, and the
+    old state's everywhere else; a manifold panel's block, which needs the whole force on its
+    coordinates, and a rigid panel's (none) are left as built."""
+    sys = make_system(fidelity, free=True, lock=False)
+    old, new = generic_state(sys, fidelity, True, seed=0), generic_state(sys, fidelity, True, seed=1)
+    c = (1.0, 0.6 * 0.01, 0.3 * 0.01 ** 2)
+    S_old = sys.newton_matrix(*old, 0.0, *c)
+    S_new = sys.newton_matrix(*new, 0.1, *c)
+    S, refreshed = sys.refreshed_newton_matrix(*old, 0.0, *new, 0.1, *c)
+    nb = sys.num_velocities - num_elastic(sys)
+    assert refreshed == (fidelity not in ("rigid", "reduced-manifold"))
+    if not refreshed:
+        np.testing.assert_array_equal(S, S_old)
+        return
+    # The block moved (the linear strains' by their inertial terms alone: 8e-8 of its largest entry).
+    assert np.abs(S_new[nb:, nb:] - S_old[nb:, nb:]).max() > 1e-9 * np.abs(S_new[nb:, nb:]).max()
+    np.testing.assert_array_equal(S[nb:, nb:], S_new[nb:, nb:])  # the same function at the same state
+    np.testing.assert_array_equal(S[:nb], S_old[:nb])
+    np.testing.assert_array_equal(S[:, :nb], S_old[:, :nb])

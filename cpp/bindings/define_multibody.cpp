@@ -294,6 +294,25 @@ void define_multibody(py::module_& m) {
           py::kw_only(), py::arg("data") = nullptr,
           "c_a dr/da + c_v dr/dv + c_q dr/dq (dr/dq along retract()), assembled dense.")
       .def(
+          "refreshed_newton_matrix",
+          [](const Model& s, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0, const Eigen::VectorXd& a0,
+             double t0, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,
+             double c_a, double c_v, double c_q, PyData* data) {
+            s.check_state(q0, v0, &a0);
+            s.check_state(q, v, &a);
+            DataArg d(s, data);
+            py::gil_scoped_release release;
+            deployfx::integrate::BlockMatrix S = newton_matrix(s, *d.data, q0, v0, a0, t0, c_a, c_v, c_q);
+            const bool refreshed = refresh_panel_blocks(s, *d.data, q, v, a, t, c_a, c_v, c_q, S);
+            return std::make_pair(S.dense(), refreshed);
+          },
+          py::arg("q0"), py::arg("v0"), py::arg("a0"), py::arg("t0"), py::arg("q"), py::arg("v"), py::arg("a"),
+          py::arg("t"), py::arg("c_a"), py::arg("c_v"), py::arg("c_q"), py::kw_only(), py::arg("data") = nullptr,
+          "(S, refreshed): the Newton matrix at (q0, v0, a0, t0) with its panels' own elastic blocks formed anew "
+          "at (q, v, a, t) (what a full-Newton step of a reduced Green-strain panel refreshes; "
+          "NewtonOptions::elastic_refreshes), assembled dense; refreshed False (S as built) where the model "
+          "cannot (a hinge on a panel, a manifold panel).")
+      .def(
           "newton_matrix_and_momentum_jacobian",
           [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,
              double c_a, double c_v, double c_q, PyData* data) {

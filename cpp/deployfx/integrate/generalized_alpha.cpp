@@ -67,6 +67,7 @@ void GeneralizedAlpha::polish_momentum(const Eigen::VectorXd& q, Eigen::VectorXd
 
 void GeneralizedAlpha::restore(const Solver& state) {
   full_steps_ = state.full_steps;
+  refreshes_ = state.elastic_refreshes;
   factor_h_ = -1;
   if (!(state.h > 0)) return;
   matrix_ = state.S;
@@ -135,6 +136,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   double previous = 0;
   int diverging = 0;  // exact Newton steps that grew the increment (NewtonOptions::diverging_steps)
   Eigen::VectorXd last;  // the previous applied increment (dv, db)
+  bool certify = false;  // a refreshed matrix's step stalled at the floor: only a whole one can end it
   AndersonMixing mixing(newton_.anderson_depth);  // a kept sparse matrix's iterations (NewtonOptions)
   for (int it = 1; it <= newton_.max_iterations; ++it) {
     const Iterate x1 = iterate(s, h, vdot, w);
@@ -148,22 +150,33 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     // Eq. 42-43, integrated: the momentum rows, scaled like accelerations.
     const Eigen::VectorXd rm = nc ? Eigen::VectorXd((sys_.momentum(q1, v1, t1) - Pi_n) / (h * gamma * c)) : Eigen::VectorXd();
     if (!r.allFinite() || !rm.allFinite()) throw fail("the residual is not finite");
-    auto factorize_here = [&] {
-      // With the momentum rows, their d/dvdot (up to the factor h gamma c): dPi/dv + (h beta /
-      // gamma) dPi/dq.
-      BlockMatrix S =
-          nc ? sys_.iteration_matrix_and_momentum_jacobian(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c,
-                                                           momentum_jacobian_)
-             : sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c);
-      if (!solver_.factorize(S)) throw fail("the iteration matrix is singular");
-      if (!slaved_.empty()) slaved_block_.set(S, slaved_), slaved_h_ = h;
-      if (nc) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
+    // A matrix formed at this iterate and factorized: in full Newton, for a step of about the
+    // kept matrix's size, up to NewtonOptions::elastic_refreshes in a row only the kept matrix's
+    // elastic blocks (SecondOrderSystem::refresh_elastic_blocks, where `refresh` allows it),
+    // otherwise the whole matrix. Returns whether it is whole, an exact Newton matrix.
+    auto factorize_here = [&](bool refresh) {
+      const double c_v = h * gamma * c, c_q = h * h * beta * c;
+      refresh = refresh && full && refreshes_ < newton_.elastic_refreshes && factor_h_ > 0 &&
+                std::abs(factor_h_ - h) <= newton_.step_reuse * h &&
+                sys_.refresh_elastic_blocks(matrix_, q1, v1, ve, t1, 1.0, c_v, c_q);
+      if (refresh) {
+        ++refreshes_;  // the momentum rows' Jacobian stays the whole matrix's
+      } else {
+        // With the momentum rows, their d/dvdot (up to the factor h gamma c): dPi/dv + (h beta /
+        // gamma) dPi/dq.
+        matrix_ = nc ? sys_.iteration_matrix_and_momentum_jacobian(q1, v1, ve, t1, 1.0, c_v, c_q, momentum_jacobian_)
+                     : sys_.iteration_matrix(q1, v1, ve, t1, 1.0, c_v, c_q);
+        refreshes_ = 0;
+      }
+      if (!solver_.factorize(matrix_)) throw fail("the iteration matrix is singular");
+      if (!slaved_.empty()) slaved_block_.set(matrix_, slaved_), slaved_h_ = h;
+      if (nc && !refresh) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
       factor_h_ = h;
       refactor = !newton_.reuse_jacobian || full;
-      matrix_ = std::move(S);  // kept for a checkpoint (solver_state)
+      return !refresh;
     };
-    bool fresh = refactor;
-    if (fresh) factorize_here();
+    // renewed: a matrix factorized at this iterate; fresh: and whole (exact Newton).
+    bool renewed = refactor, fresh = renewed && factorize_here(!certify);
     // Newton on (w, the other accelerations) with the iteration matrix of the balance rows, then
     // the base's algorithmic acceleration from the momentum rows. (The residual's dependence on
     // vdot.head(nc) through q_{n+1}, v_{n+1} is attributed to w: the two differ by O(h).)
@@ -179,7 +192,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       size = nc ? std::max(dv.lpNorm<Eigen::Infinity>(), db.lpNorm<Eigen::Infinity>()) : dv.lpNorm<Eigen::Infinity>();
       if (!std::isfinite(size)) throw fail("the Newton increment is not finite");
       rho = previous > 0 ? size / previous : 0.0;
-      if (!fresh && rho > contraction && solver_.dense() && !slaved_.empty() && newton_.full_newton_steps > 0) {
+      if (!renewed && rho > contraction && solver_.dense() && !slaved_.empty() && newton_.full_newton_steps > 0) {
         // A kept matrix's stale coupling of the stiff in-plane coordinates to the bending: full
         // Newton for the rest of this step and the next few (NewtonOptions::full_newton_steps).
         full_steps_ = newton_.full_newton_steps;
@@ -189,8 +202,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       // An old matrix that no longer contracts: a fresh one here, for the same residual, as the
       // next iteration (its residual would be this one again).
       if (++it > newton_.max_iterations) throw out_of_iterations();
-      factorize_here();
-      fresh = true;
+      renewed = fresh = factorize_here(false);
     }
     // A 2-cycle of exact Newton: a fresh matrix's increment that undoes the previous one at the
     // same size (Newton on a tanh-like law, e.g. the lock's regularized friction at stick, jumps
@@ -208,7 +220,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const bool limited = limit < (cycle ? 0.5 : 1.0);
     const double lambda = limited ? limit : cycle ? 0.5 : 1.0;
     // A fresh matrix's step, and a damped one, are plain Newton steps; the history restarts there.
-    if (fresh || cycle || limited) mixing.reset();
+    if (renewed || cycle || limited) mixing.reset();
     if (cycle || limited || solver_.dense() || newton_.anderson_depth <= 0) {
       last = lambda * inc;
       vdot.tail(n - nc) -= lambda * dv.tail(n - nc);
@@ -258,6 +270,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       return it;
     }
     if (!fresh && (rho > contraction || (stalling && rho > newton_.floor_contraction))) refactor = true;  // slow or stalled, old matrix
+    certify = renewed && !fresh && stalling;
     previous = size;
     // After a kept matrix's update (a fresh one's leaves the membrane misfit at second order).
     if (newton_.relax_every_iteration && !solver_.dense() && !fresh) r_start = relax_slaved(s, h, vdot, w);

@@ -87,6 +87,20 @@ struct NewtonOptions {
   double contraction = 0.25;
   double contraction_dense = 0.03;
   int full_newton_steps = 10;
+  /// In full Newton, up to this many iterations in a row refresh only the kept matrix's elastic
+  /// blocks (SecondOrderSystem::refresh_elastic_blocks: the panels' tangent stiffness and their
+  /// own inertial terms at the iterate, in place; the border rows and columns, base and hinges,
+  /// and the momentum rows' Jacobian stay) before a whole matrix is formed again, for a step
+  /// within step_reuse of its size; 0: a whole matrix every time. What goes stale in a reduced
+  /// Green-strain panel's matrix is its elastic block: on the paper's 30 s scene (15 x 10), the
+  /// border refreshed and the elastic block kept took the iterations from 13026 to 14169-15811,
+  /// the elastic block refreshed and the border kept to 13680-15159 (1 to 3 refreshes in a row),
+  /// and a refresh costs about a sixth of a whole matrix (the panel's block alone, 2-3 against
+  /// 18 us): 1 saves 6-7 % of the run's CPU, 2 the same, 3 less (docs/performance-history.md,
+  /// session 26). A refreshed matrix is not an exact
+  /// Newton matrix: the round-off floor's acceptance and the cycle and divergence tests wait for
+  /// a whole one.
+  int elastic_refreshes = 1;
   /// Near the round-off floor (`floor`) a kept matrix's step is trusted while it contracts by
   /// at least this much (else a fresh matrix is formed: an old matrix's small steps alone prove
   /// nothing), sparse or dense. Measured on the paper's 30 s scene, 15 x 10
@@ -153,14 +167,15 @@ class GeneralizedAlpha {
   long factorizations() const { return solver_.factorizations(); }
   /// The solver state a run carries between steps, for a checkpoint: the iteration matrix last
   /// factorized as it was built (S, its step size h, -1: none; with conserved momenta the
-  /// momentum rows' Jacobian) and the reuse policy's counter.
+  /// momentum rows' Jacobian) and the reuse policy's counters.
   struct Solver {
     BlockMatrix S;
     double h = -1;
     Eigen::MatrixXd momentum_jacobian;
     int full_steps = 0;
+    int elastic_refreshes = 0;
   };
-  Solver solver_state() const { return {matrix_, factor_h_, momentum_jacobian_, full_steps_}; }
+  Solver solver_state() const { return {matrix_, factor_h_, momentum_jacobian_, full_steps_, refreshes_}; }
   /// Resumes from solver_state(): S factorized afresh, so the run goes on bit for bit as the one
   /// that saved it (a factorization is a function of S). Throws StepFailure if S is singular.
   void restore(const Solver& state);
@@ -190,13 +205,16 @@ class GeneralizedAlpha {
   std::vector<int> slaved_;
   SlavedBlock slaved_block_;
   double slaved_h_ = -1;
-  // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps).
+  // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps), and
+  // the elastic blocks' refreshes since the last whole matrix (NewtonOptions::elastic_refreshes).
   int full_steps_ = 0;
+  int refreshes_ = 0;
   // With conserved momenta: dPi/dvdot of the momentum rows at the last factorization, and the LU
   // of its base columns.
   Eigen::MatrixXd momentum_jacobian_;
   Eigen::PartialPivLU<Eigen::MatrixXd> momentum_lu_;
-  // The matrix last factorized, as built (for a checkpoint: solver_state).
+  // The matrix last factorized (its elastic blocks refreshed in place: NewtonOptions::
+  // elastic_refreshes), kept for a checkpoint (solver_state).
   BlockMatrix matrix_;
 };
 

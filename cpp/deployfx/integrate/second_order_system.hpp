@@ -29,6 +29,16 @@ class SecondOrderSystem {
   virtual BlockMatrix iteration_matrix(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                        const Eigen::VectorXd& a, double t, double c_a,
                                        double c_v, double c_q) = 0;
+  /// A kept iteration matrix S (from iteration_matrix) brought partly up to date at a new state:
+  /// the flexible bodies' own elastic blocks (their tangent stiffness, which goes stale first in
+  /// a Green-strain panel: GeneralizedAlpha's NewtonOptions::elastic_refreshes) formed anew with
+  /// the coefficients given, in place, the rest of S as it was. Returns false, S unchanged, where
+  /// the system cannot (default).
+  virtual bool refresh_elastic_blocks(BlockMatrix& /*S*/, const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/,
+                                      const Eigen::VectorXd& /*a*/, double /*t*/, double /*c_a*/, double /*c_v*/,
+                                      double /*c_q*/) {
+    return false;
+  }
 
   /// The largest fraction in (0, 1] of a Newton increment worth taking from the iterate (q, v),
   /// given the velocity change dv the whole increment would make. A system whose residual turns

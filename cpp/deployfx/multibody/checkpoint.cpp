@@ -58,7 +58,7 @@ void check_checkpoint(const Model& m, const Checkpoint& c) {
 // machine's representation (a checkpoint resumes on the machine kind that wrote it).
 namespace {
 
-constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '3'};
+constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '4'};
 
 struct Writer {
   std::string out;
@@ -173,7 +173,8 @@ std::string Checkpoint::to_bytes() const {
   w.put(driver.t0), w.put(static_cast<std::int64_t>(driver.k)), w.put(driver.h_try), w.put(driver.h_contact);
   w.put(driver.contact_bounds.error), w.put(driver.contact_bounds.min_step);
   const integrate::GeneralizedAlpha::Solver& solver = driver.solver;
-  w.put(static_cast<std::int32_t>(solver.full_steps)), w.put(solver.h);
+  w.put(static_cast<std::int32_t>(solver.full_steps)), w.put(static_cast<std::int32_t>(solver.elastic_refreshes));
+  w.put(solver.h);
   w.put(solver.S.A), w.put(solver.S.B), w.put(solver.S.C), w.put(solver.S.E), w.put(solver.momentum_jacobian);
   w.put(static_cast<std::int64_t>(locks.size()));
   for (const joint::LockState& L : locks) {
@@ -216,6 +217,9 @@ Checkpoint Checkpoint::from_bytes(const std::string& bytes) {
   c.driver.k = static_cast<long>(k);
   integrate::GeneralizedAlpha::Solver& solver = c.driver.solver;
   solver.full_steps = full;
+  std::int32_t refreshes = 0;
+  r.get(refreshes);
+  solver.elastic_refreshes = refreshes;
   r.get(solver.h);
   r.get(solver.S.A), r.get(solver.S.B), r.get(solver.S.C), r.get(solver.S.E), r.get(solver.momentum_jacobian);
   c.locks.resize(static_cast<std::size_t>(r.count()));

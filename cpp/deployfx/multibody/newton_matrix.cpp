@@ -21,7 +21,42 @@ std::vector<int> attachments_above(const Model& m, int j) {
   return out;
 }
 
+// Panel j's own elastic block at the staged state: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) +
+// G_w(w) + K_T) with damping (FlexibleBody::elastic_block; Q: the force on a manifold panel's
+// coordinates, unused on the others).
+void panel_block(const Model& m, Data& d, int j, const Eigen::VectorXd& Q, double c_a, double c_v, double c_q,
+                 Eigen::Ref<Eigen::VectorXd> vals) {
+  const BodyMotion<double>& C = d.motion.body[j];
+  m.body(j).panel->elastic_block(d.elastic[j], Q, C.w, C.al, c_a, c_v, c_q, vals, &d.panels[j]);
+}
+
 }  // namespace
+
+bool refresh_panel_blocks(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                          const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q,
+                          integrate::BlockMatrix& S) {
+  if (m.panels().empty() || S.elastic() != m.elastic() || S.border() != m.border()) return false;
+  const ElasticPattern& pattern = m.pattern();
+  if (S.E.nonZeros() != pattern.matrix.nonZeros()) return false;
+  for (int k = 0; k < m.num_hinges(); ++k)
+    if (m.body(k).attachment) return false;  // a coupling may share the parent's slots
+  for (int j : m.panels())
+    if (m.body(j).panel->manifold()) return false;  // its block needs the whole force on eta
+  forward_kinematics(m, d, q, v, &a, t);
+  Eigen::VectorXd own;
+  for (int j : m.panels()) {
+    const Eigen::Index n = m.body(j).panel->block().nonzeros();
+    if (pattern.identity) {  // the panel's block is all of E, in its value order
+      panel_block(m, d, j, Eigen::VectorXd(), c_a, c_v, c_q, Eigen::Map<Eigen::VectorXd>(S.E.valuePtr(), n));
+      continue;
+    }
+    own.resize(n);
+    panel_block(m, d, j, Eigen::VectorXd(), c_a, c_v, c_q, own);
+    const std::vector<int>& slots = pattern.body_slots[j];  // no other term shares them (above)
+    for (std::size_t i = 0; i < slots.size(); ++i) S.E.valuePtr()[slots[i]] = own(static_cast<Eigen::Index>(i));
+  }
+  return true;
+}
 
 integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                      const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q,
@@ -259,10 +294,8 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
         for (int jj = 0; jj < b.n_el; ++jj) Ev(cp.slots_AR(i, first + jj)) += Mz(i, jj);
     }
 
-    // Elastic block: c_a L_c + c_v 2 G_y(w) + c_q (G_y(al) + G_w(w) + K_T) and damping
-    // (FlexibleBody::elastic_block).
-    const BodyMotion<double>& C = d.motion.body[j];
-    // With the panel's block as the whole elastic block, its values are formed in S.E itself.
+    // Elastic block (FlexibleBody::elastic_block). With the panel's block as the whole elastic
+    // block, its values are formed in S.E itself.
     const fem::FreeBlock& block = b.panel->block();
     Eigen::VectorXd own;
     if (pattern.identity) {  // the pattern alone: elastic_block() writes every value
@@ -283,8 +316,7 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
       for (int k : b.children)
         if (m.body(k).attachment) Q_eta += m.body(k).attachment->P.transpose() * attach_forces()[k];
     }
-    b.panel->elastic_block(d.elastic[j], b.panel->manifold() ? Q_eta : F.f.Q, C.w, C.al, c_a, c_v, c_q, vals,
-                           &d.panels[j]);
+    panel_block(m, d, j, b.panel->manifold() ? Q_eta : F.f.Q, c_a, c_v, c_q, vals);
     if (!pattern.identity) {
       const std::vector<int>& slots = pattern.body_slots[j];
       for (std::size_t i = 0; i < slots.size(); ++i) Ev(slots[i]) += vals(static_cast<Eigen::Index>(i));

@@ -28,6 +28,11 @@ integrate::BlockMatrix TreeSystem::iteration_matrix_and_momentum_jacobian(const 
   return newton_matrix(m_, d_, q, v, a, t, c_a, c_v, c_q, &momentum_jacobian);
 }
 
+bool TreeSystem::refresh_elastic_blocks(integrate::BlockMatrix& S, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                        const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q) {
+  return refresh_panel_blocks(m_, d_, q, v, a, t, c_a, c_v, c_q, S);
+}
+
 Eigen::VectorXd TreeSystem::momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
   return multibody::momentum(m_, d_, q, v, t);
 }

@@ -24,6 +24,8 @@ class TreeSystem final : public integrate::SecondOrderSystem {
                                                                 const Eigen::VectorXd& a, double t, double c_a,
                                                                 double c_v, double c_q,
                                                                 Eigen::MatrixXd& momentum_jacobian) override;
+  bool refresh_elastic_blocks(integrate::BlockMatrix& S, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                              const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q) override;
   int num_conserved() const override { return m_.num_conserved(); }
   Eigen::VectorXd momentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) override;
   Eigen::MatrixXd momentum_jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double c_v,
