@@ -21,7 +21,9 @@ import numpy as np
 import pytest
 
 import deployfx as dfx
-from deployfx import _core
+from deployfx import _core, scenes
+
+import chain_scenes  # tests/: scenes shared by tests
 
 M_BASE, J_BASE = 3000.0, 500.0
 P_HINGE = np.array([0.83, 0.0, 0.0])
@@ -183,6 +185,25 @@ def test_momentum_jacobian_equals_central_differences(case):
 
 
 
+def assert_refreshed(sys, old, new, expect):
+    """S from refreshed_newton_matrix: the new state's elastic block in the old border, or the old
+    matrix whole where the refresh declines (expect False)."""
+    c = (1.0, 0.6 * 0.01, 0.3 * 0.01 ** 2)
+    S_old = sys.newton_matrix(*old, 0.0, *c)
+    S_new = sys.newton_matrix(*new, 0.1, *c)
+    S, refreshed = sys.refreshed_newton_matrix(*old, 0.0, *new, 0.1, *c)
+    assert refreshed == expect
+    if not refreshed:
+        np.testing.assert_array_equal(S, S_old)
+        return
+    nb = sys.num_velocities - sum(sys.layout(k)["num_elastic"] for k in range(sys.num_hinges))
+    # The block moved (the linear strains' by their inertial terms alone: 8e-8 of its largest entry).
+    assert np.abs(S_new[nb:, nb:] - S_old[nb:, nb:]).max() > 1e-9 * np.abs(S_new[nb:, nb:]).max()
+    np.testing.assert_array_equal(S[nb:, nb:], S_new[nb:, nb:])  # the same function at the same state
+    np.testing.assert_array_equal(S[:nb], S_old[:nb])
+    np.testing.assert_array_equal(S[:, :nb], S_old[:, :nb])
+
+
 @pytest.mark.parametrize("fidelity", FIDELITIES)
 def test_refreshed_matrix_is_the_new_elastic_block_in_the_old_border(fidelity):
     """A kept matrix's elastic block refreshed at a new state (what full Newton on a reduced
@@ -192,17 +213,23 @@ def test_refreshed_matrix_is_the_new_elastic_block_in_the_old_border(fidelity):
     coordinates, and a rigid panel's (none) are left as built."""
     sys = make_system(fidelity, free=True, lock=False)
     old, new = generic_state(sys, fidelity, True, seed=0), generic_state(sys, fidelity, True, seed=1)
-    c = (1.0, 0.6 * 0.01, 0.3 * 0.01 ** 2)
-    S_old = sys.newton_matrix(*old, 0.0, *c)
-    S_new = sys.newton_matrix(*new, 0.1, *c)
-    S, refreshed = sys.refreshed_newton_matrix(*old, 0.0, *new, 0.1, *c)
-    nb = sys.num_velocities - num_elastic(sys)
-    assert refreshed == (fidelity not in ("rigid", "reduced-manifold"))
-    if not refreshed:
-        np.testing.assert_array_equal(S, S_old)
-        return
-    # The block moved (the linear strains' by their inertial terms alone: 8e-8 of its largest entry).
-    assert np.abs(S_new[nb:, nb:] - S_old[nb:, nb:]).max() > 1e-9 * np.abs(S_new[nb:, nb:]).max()
-    np.testing.assert_array_equal(S[nb:, nb:], S_new[nb:, nb:])  # the same function at the same state
-    np.testing.assert_array_equal(S[:nb], S_old[:nb])
-    np.testing.assert_array_equal(S[:, :nb], S_old[:, :nb])
+    assert_refreshed(sys, old, new, fidelity not in ("rigid", "reduced-manifold"))
+
+
+def two_states(sys, seed):
+    """Two states of a tree's model: its start, and one with every coordinate moved a little."""
+    rng = np.random.default_rng(seed)
+    n = sys.num_velocities
+    q0, zero = sys.initial_positions(), np.zeros(n)
+    q1 = sys.retract(q0, 1e-3 * rng.normal(size=n))
+    return (q0, 0.1 * rng.normal(size=n), rng.normal(size=n)), (q1, 0.1 * rng.normal(size=n), zero)
+
+
+def test_refreshed_matrix_on_trees():
+    """Two wings of reduced Green-strain panels (the elastic blocks placed by the pattern's
+    slots, not the identity): each panel's block refreshed, the rest as built. A hinge riding on
+    a panel (its attachment's coupling shares the parent's values): declined, S as built."""
+    wings = scenes.paper2016(2, "reduced-nonlinear", nx=2, ny=1, modes=4, wings=2).model.core
+    assert_refreshed(wings, *two_states(wings, 0), True)
+    array = chain_scenes.locked_array("reduced-nonlinear", 2).core
+    assert_refreshed(array, *two_states(array, 1), False)

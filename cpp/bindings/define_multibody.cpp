@@ -311,7 +311,7 @@ void define_multibody(py::module_& m) {
           "(S, refreshed): the Newton matrix at (q0, v0, a0, t0) with its panels' own elastic blocks formed anew "
           "at (q, v, a, t) (what a full-Newton step of a reduced Green-strain panel refreshes; "
           "NewtonOptions::elastic_refreshes), assembled dense; refreshed False (S as built) where the model "
-          "cannot (a hinge on a panel, a manifold panel).")
+          "cannot (no flexible panel, a hinge on a panel, a manifold panel).")
       .def(
           "newton_matrix_and_momentum_jacobian",
           [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,

@@ -7,9 +7,9 @@ listed output instant (``result.checkpoints``); ``Model.resume(checkpoint, t_end
 tolerance and Newton tolerance. A checkpoint holds the state (q, v), the integrator's accelerations and its predictor's
 history, the step control's next sizes, the lock histories (contact modes, impact trackers) and
 the impact records so far, the energy check's baseline, and the model's fingerprint; and the
-integrator's Newton matrix as last built, factorized afresh on resuming, so that the modified
-Newton iteration goes on with the very matrix the uninterrupted run reuses. Taking checkpoints
-changes nothing in a run.
+integrator's Newton matrix as last built or refreshed, factorized afresh on resuming, so that the
+modified Newton iteration goes on with the very matrix the uninterrupted run reuses. Taking
+checkpoints changes nothing in a run.
 
 File format (:meth:`Checkpoint.save`): the line ``deployfx-checkpoint 1``, an 8-byte
 little-endian length and a JSON header (the run's settings, the model's fingerprint), an 8-byte

@@ -126,7 +126,8 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
   // Convergence is judged against the accelerations at the step's start: an iterate that has run
   // away cannot make its own increments look small.
   const double scale = std::max(1.0, s.vdot.lpNorm<Eigen::Infinity>());
-  // Full Newton (a fresh matrix at every iteration) while a reused matrix has lately proved slow.
+  // Full Newton (a matrix renewed at every iteration: whole, or its elastic blocks refreshed,
+  // NewtonOptions::elastic_refreshes) while a reused matrix has lately proved slow.
   bool full = newton_.reuse_jacobian && full_steps_ > 0;
   if (full) --full_steps_;
   // A step of about the same size keeps the matrix (NewtonOptions::step_reuse): the steps of a
@@ -150,15 +151,17 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     // Eq. 42-43, integrated: the momentum rows, scaled like accelerations.
     const Eigen::VectorXd rm = nc ? Eigen::VectorXd((sys_.momentum(q1, v1, t1) - Pi_n) / (h * gamma * c)) : Eigen::VectorXd();
     if (!r.allFinite() || !rm.allFinite()) throw fail("the residual is not finite");
-    // A matrix formed at this iterate and factorized: in full Newton, for a step of about the
-    // kept matrix's size, up to NewtonOptions::elastic_refreshes in a row only the kept matrix's
-    // elastic blocks (SecondOrderSystem::refresh_elastic_blocks, where `refresh` allows it),
-    // otherwise the whole matrix. Returns whether it is whole, an exact Newton matrix.
+    // A matrix formed at this iterate and factorized: in full Newton on a system with slaved
+    // coordinates, for a step of about the kept matrix's size, up to
+    // NewtonOptions::elastic_refreshes in a row only the kept matrix's elastic blocks
+    // (SecondOrderSystem::refresh_elastic_blocks, where `refresh` allows it), otherwise the whole
+    // matrix. Returns whether it is whole, an exact Newton matrix.
     auto factorize_here = [&](bool refresh) {
       const double c_v = h * gamma * c, c_q = h * h * beta * c;
-      refresh = refresh && full && refreshes_ < newton_.elastic_refreshes && factor_h_ > 0 &&
-                std::abs(factor_h_ - h) <= newton_.step_reuse * h &&
-                sys_.refresh_elastic_blocks(matrix_, q1, v1, ve, t1, 1.0, c_v, c_q);
+      refresh = refresh && full && !slaved_.empty() && refreshes_ < newton_.elastic_refreshes && factor_h_ > 0 &&
+                std::abs(factor_h_ - h) <= newton_.step_reuse * h;
+      factor_h_ = -1;  // no kept matrix until the one below is factorized (a throw leaves none)
+      refresh = refresh && sys_.refresh_elastic_blocks(matrix_, q1, v1, ve, t1, 1.0, c_v, c_q);
       if (refresh) {
         ++refreshes_;  // the momentum rows' Jacobian stays the whole matrix's
       } else {
@@ -194,9 +197,11 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
       rho = previous > 0 ? size / previous : 0.0;
       if (!renewed && rho > contraction && solver_.dense() && !slaved_.empty() && newton_.full_newton_steps > 0) {
         // A kept matrix's stale coupling of the stiff in-plane coordinates to the bending: full
-        // Newton for the rest of this step and the next few (NewtonOptions::full_newton_steps).
+        // Newton for the rest of this step and the next few (NewtonOptions::full_newton_steps),
+        // from a whole matrix (then every other one refreshed: elastic_refreshes).
         full_steps_ = newton_.full_newton_steps;
         full = true;
+        refreshes_ = newton_.elastic_refreshes;
       }
       if (fresh || rho < 1) break;
       // An old matrix that no longer contracts: a fresh one here, for the same residual, as the
@@ -219,7 +224,7 @@ int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess
     const double limit = sys_.newton_step_limit(q1, v1, -(h * gamma * c) * dvel);
     const bool limited = limit < (cycle ? 0.5 : 1.0);
     const double lambda = limited ? limit : cycle ? 0.5 : 1.0;
-    // A fresh matrix's step, and a damped one, are plain Newton steps; the history restarts there.
+    // A renewed matrix's step, and a damped one, are plain Newton steps; the history restarts there.
     if (renewed || cycle || limited) mixing.reset();
     if (cycle || limited || solver_.dense() || newton_.anderson_depth <= 0) {
       last = lambda * inc;

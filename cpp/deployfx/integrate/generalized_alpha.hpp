@@ -52,7 +52,7 @@ struct NewtonOptions {
   /// system has slaved coordinates (slaved_velocities(): a reduced Green-strain panel's stiff
   /// in-plane coordinates): there a slow kept dense matrix, whose stale coupling of those to the
   /// bending makes its steps lead away, switches the rest of the step and the next
-  /// `full_newton_steps` steps to full Newton (a fresh matrix every iteration). Measured on the
+  /// `full_newton_steps` steps to full Newton (a matrix renewed every iteration). Measured on the
   /// paper's scene, the reduced-nonlinear model's previous-step matrix contracts by only 0.02-0.2
   /// and was refactored about 3 times a step anyway, doubling the iterations; without full Newton
   /// its start-up whip at dt = 0.02 s alternates kept and exact steps until three exact ones grow
@@ -87,19 +87,19 @@ struct NewtonOptions {
   double contraction = 0.25;
   double contraction_dense = 0.03;
   int full_newton_steps = 10;
-  /// In full Newton, up to this many iterations in a row refresh only the kept matrix's elastic
-  /// blocks (SecondOrderSystem::refresh_elastic_blocks: the panels' tangent stiffness and their
-  /// own inertial terms at the iterate, in place; the border rows and columns, base and hinges,
-  /// and the momentum rows' Jacobian stay) before a whole matrix is formed again, for a step
-  /// within step_reuse of its size; 0: a whole matrix every time. What goes stale in a reduced
-  /// Green-strain panel's matrix is its elastic block: on the paper's 30 s scene (15 x 10), the
-  /// border refreshed and the elastic block kept took the iterations from 13026 to 14169-15811,
-  /// the elastic block refreshed and the border kept to 13680-15159 (1 to 3 refreshes in a row),
-  /// and a refresh costs about a sixth of a whole matrix (the panel's block alone, 2-3 against
-  /// 18 us): 1 saves 6-7 % of the run's CPU, 2 the same, 3 less (docs/performance-history.md,
-  /// session 26). A refreshed matrix is not an exact
-  /// Newton matrix: the round-off floor's acceptance and the cycle and divergence tests wait for
-  /// a whole one.
+  /// In full Newton on a system with slaved coordinates (a reduced Green-strain panel), up to
+  /// this many iterations in a row refresh only the kept matrix's elastic blocks
+  /// (SecondOrderSystem::refresh_elastic_blocks: the panels' tangent stiffness and their own
+  /// inertial terms at the iterate, in place; the border rows and columns, base and hinges, and
+  /// the momentum rows' Jacobian stay) before a whole matrix is formed again, for a step within
+  /// step_reuse of its size; full Newton starts from a whole matrix; 0: whole every time. What
+  /// goes stale in that panel's matrix is its elastic block: on the paper's 30 s scene (15 x 10),
+  /// one matrix in two swapped for the kept one's parts took the iterations from 13026 to 14169
+  /// with the elastic block kept, to 13216 with the border kept; a refresh costs about a sixth of
+  /// a whole matrix (2-3 against 18 us). At 1: 13637 iterations, CPU -6 % (2 the same, 3 less;
+  /// docs/performance-history.md, session 26). A refreshed matrix is not an exact Newton
+  /// matrix: the round-off floor's acceptance and the cycle and divergence tests wait for a
+  /// whole one.
   int elastic_refreshes = 1;
   /// Near the round-off floor (`floor`) a kept matrix's step is trusted while it contracts by
   /// at least this much (else a fresh matrix is formed: an old matrix's small steps alone prove
@@ -166,8 +166,8 @@ class GeneralizedAlpha {
   /// Numeric factorizations of the iteration matrix so far.
   long factorizations() const { return solver_.factorizations(); }
   /// The solver state a run carries between steps, for a checkpoint: the iteration matrix last
-  /// factorized as it was built (S, its step size h, -1: none; with conserved momenta the
-  /// momentum rows' Jacobian) and the reuse policy's counters.
+  /// factorized, as built or refreshed (S, its step size h, -1: none; with conserved momenta the
+  /// last whole matrix's momentum rows' Jacobian) and the reuse policy's counters.
   struct Solver {
     BlockMatrix S;
     double h = -1;
@@ -205,7 +205,7 @@ class GeneralizedAlpha {
   std::vector<int> slaved_;
   SlavedBlock slaved_block_;
   double slaved_h_ = -1;
-  // Steps left that take a fresh matrix at every iteration (NewtonOptions::full_newton_steps), and
+  // Steps left that renew the matrix at every iteration (NewtonOptions::full_newton_steps), and
   // the elastic blocks' refreshes since the last whole matrix (NewtonOptions::elastic_refreshes).
   int full_steps_ = 0;
   int refreshes_ = 0;
@@ -213,8 +213,9 @@ class GeneralizedAlpha {
   // of its base columns.
   Eigen::MatrixXd momentum_jacobian_;
   Eigen::PartialPivLU<Eigen::MatrixXd> momentum_lu_;
-  // The matrix last factorized (its elastic blocks refreshed in place: NewtonOptions::
-  // elastic_refreshes), kept for a checkpoint (solver_state).
+  // The matrix factorized at factor_h_, as built or with its elastic blocks refreshed in place
+  // (NewtonOptions::elastic_refreshes): what a refresh updates and a checkpoint saves
+  // (solver_state); unused while factor_h_ < 0 (it may then be one that failed to factorize).
   BlockMatrix matrix_;
 };
 

@@ -62,7 +62,7 @@ struct DriverState {
   double h_contact = 0;       ///< s, the next step while a contact is resolved
   /// The last resolved contact's step bounds, kept until the steps are back at dt (run()).
   SecondOrderSystem::StepBounds contact_bounds;
-  GeneralizedAlpha::Solver solver;  ///< the integrator's Newton matrix and reuse counter
+  GeneralizedAlpha::Solver solver;  ///< the integrator's Newton matrix and reuse counters
 };
 
 /// Checkpoints of a run: `sink` is called at the end of each output step listed in `at` (after

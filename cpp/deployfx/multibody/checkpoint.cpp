@@ -44,6 +44,7 @@ void check_checkpoint(const Model& m, const Checkpoint& c) {
     if (i.hinge < 0 || i.hinge >= m.num_hinges()) fail("an impact record names no hinge of this model");
   if (!(c.driver.k >= 0)) fail("its output step count is negative");
   const integrate::GeneralizedAlpha::Solver& sv = c.driver.solver;
+  if (sv.full_steps < 0 || sv.elastic_refreshes < 0) fail("its Newton counters are negative");
   if (sv.h > 0) {
     const integrate::BlockMatrix& S = sv.S;
     const Eigen::Index nb = S.A.rows(), ne = S.E.rows(), nc = m.num_conserved();
