@@ -27,9 +27,9 @@ integrate::BlockMatrix newton_matrix(const Model& m, Data& d, const Eigen::Vecto
 
 /// A kept S's panels' own elastic blocks formed anew at (q, v, a, t) with (c_a, c_v, c_q), in
 /// place; the border rows and columns and the panels' wrench derivatives stay as S was built
-/// (SecondOrderSystem::refresh_elastic_blocks). False, S unchanged, where another term shares a
-/// panel's values (a hinge attached to a panel) or a panel lies on a manifold (its block needs
-/// the whole force on its coordinates), or S is not of m's shape.
+/// (SecondOrderSystem::refresh_elastic_blocks). False, S unchanged, where m has no panel, where
+/// another term may share a panel's values (any hinge attached to a panel) or a panel lies on a
+/// manifold (its block needs the whole force on its coordinates), or S is not of m's shape.
 bool refresh_panel_blocks(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                           const Eigen::VectorXd& a, double t, double c_a, double c_v, double c_q,
                           integrate::BlockMatrix& S);
