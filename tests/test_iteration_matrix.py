@@ -184,7 +184,6 @@ def test_momentum_jacobian_equals_central_differences(case):
     assert_matches(sys.momentum_jacobian(q, v, 1.0, 0.01, data=data), fd_v + 0.01 * fd_q, groups, "combination")
 
 
-
 def assert_refreshed(sys, old, new, expect):
     """S from refreshed_newton_matrix: the new state's elastic block in the old border, or the old
     matrix whole where the refresh declines (expect False)."""
