@@ -57,7 +57,8 @@ def test_skew_part_is_refined_only_for_the_exact_solve():
 
 
 def test_dense_elastic_block_takes_the_dense_lu():
-    # A reduced model's modal block is full: the dense LU is exact, with no refinement to skip.
+    # A reduced model's modal block is full: S is factorized whole by one LU with partial pivoting
+    # (math/dense_lu.hpp), exact, with no refinement to skip: LAPACK's solve to 1e-12 relative.
     rng = np.random.default_rng(1)
     n, nb = 36, 7
     E = rng.normal(size=(n, n)) + 12.0 * np.eye(n)
@@ -68,6 +69,36 @@ def test_dense_elastic_block_takes_the_dense_lu():
     x, method = _core.bordered_solve(A, B, C, sp.csc_matrix(E), r, False)
     assert method == "dense-lu"
     assert np.abs(x - x_ref).max() <= 1e-12 * np.abs(x_ref).max()
+
+
+def test_dense_lu_pivots_across_the_border():
+    # The dense path factorizes S whole, pivoting by rows across border and elastic block: S is
+    # solved where E alone is singular (a Schur complement on the border would need E^-1) and
+    # where every diagonal entry is zero (no LU without row exchanges). The
+    # backward error |S x - r| / (|S| |x|) stays at round-off (Higham, Accuracy and Stability of
+    # Numerical Algorithms, 2002, Sec. 9.3: partial pivoting is backward stable in practice);
+    # an S with a zero column (a coordinate nothing depends on) raises.
+    rng = np.random.default_rng(2)
+    n, nb = 12, 3
+    E = rng.normal(size=(n, n))
+    E[:, 0] = E[:, 1]  # rank-deficient: E^-1 does not exist
+    A = rng.normal(size=(nb, nb))
+    B, C = rng.normal(size=(nb, n)), rng.normal(size=(n, nb))
+    S = np.block([[A, B], [C, E]])
+    assert np.linalg.matrix_rank(E) == n - 1 and np.linalg.matrix_rank(S) == n + nb
+    Z = S.copy()
+    np.fill_diagonal(Z, 0.0)
+    for M in (S, Z):
+        r = rng.normal(size=n + nb)
+        x, method = _core.bordered_solve(M[:nb, :nb], M[:nb, nb:], M[nb:, :nb], sp.csc_matrix(M[nb:, nb:]), r)
+        assert method == "dense-lu"
+        backward = np.abs(M @ x - r).max() / (np.abs(M).sum(axis=1).max() * np.abs(x).max())
+        assert backward <= 10 * np.finfo(float).eps
+    S_singular = S.copy()
+    S_singular[:, -1] = 0.0
+    with pytest.raises(ValueError, match="singular"):
+        _core.bordered_solve(S_singular[:nb, :nb], S_singular[:nb, nb:], S_singular[nb:, :nb],
+                             sp.csc_matrix(S_singular[nb:, nb:]), r)
 
 
 def _solve_check(E, nb=7, seed=3):

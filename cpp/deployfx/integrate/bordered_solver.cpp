@@ -118,54 +118,51 @@ bool BorderedSolver::factorize_exact(const SparseMatrix& E) {
   return true;
 }
 
-bool BorderedSolver::factorize_dense(const SparseMatrix& E) {
-  const Eigen::MatrixXd dense(E);
-  lu_dense_E_.compute(dense);
-  if (!(lu_dense_E_.matrixLU().diagonal().cwiseAbs().minCoeff() > 1e-300)) return false;
-  Z_ = lu_dense_E_.solve(C_);
-  return Z_.allFinite();
+bool BorderedSolver::factorize_dense(const BlockMatrix& S) {
+  // S whole, [A B; C E]: one LU with pivoting across border and elastic rows, no Schur complement.
+  Eigen::MatrixXd& lu = dense_lu_.lu();
+  lu.resize(nb_ + ne_, nb_ + ne_);  // the same size keeps the storage
+  lu.topLeftCorner(nb_, nb_) = S.A;
+  lu.topRightCorner(nb_, ne_) = S.B;
+  lu.bottomLeftCorner(ne_, nb_) = S.C;
+  auto E = lu.bottomRightCorner(ne_, ne_);
+  E.setZero();
+  for (int j = 0; j < S.E.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(S.E, j); it; ++it) E(it.row(), it.col()) = it.value();
+  return dense_lu_.factorize();
 }
 
 Eigen::VectorXd BorderedSolver::solve_elastic(const Eigen::VectorXd& r) const {
-  switch (method_) {
-    case Method::kDense: return lu_dense_E_.solve(r);
-    case Method::kSymmetric: return solve_symmetric(r);
-    case Method::kExact: break;
-  }
-  return lu_E_.solve(r);
+  return method_ == Method::kSymmetric ? solve_symmetric(r) : Eigen::VectorXd(lu_E_.solve(r));
 }
 
 bool BorderedSolver::factorize(const BlockMatrix& S) {
   nb_ = S.border();
   ne_ = S.elastic();
-  method_ = Method::kDense;  // without an elastic block the Schur complement is all of S
   ++factorizations_;
-  Eigen::MatrixXd schur = S.A;
-  if (ne_ > 0) {
-    if (!S.E.isCompressed()) return false;
-    C_ = S.C;
-    if (2 * static_cast<double>(S.E.nonZeros()) >= static_cast<double>(ne_) * ne_) {
-      if (!factorize_dense(S.E)) return false;
-    } else {
-      // The pattern of E is fixed by the mesh; re-analyse only if it changed.
-      if (S.E.nonZeros() != pattern_nnz_ || S.E.rows() != pattern_rows_) analyze(S.E);
-      method_ = factorize_symmetric(S.E) ? Method::kSymmetric : Method::kExact;
-      if (method_ == Method::kExact && !factorize_exact(S.E)) return false;
-    }
-    B_ = S.B;
-    A_ = S.A;
-    if (nb_ > 0) schur.noalias() -= B_ * Z_;
+  // Without an elastic block, or with a dense one (half full or more), S is factorized whole.
+  if (ne_ == 0 || 2 * static_cast<double>(S.E.nonZeros()) >= static_cast<double>(ne_) * ne_) {
+    method_ = Method::kDense;
+    return factorize_dense(S);
   }
-  if (nb_ > 0) {
-    lu_schur_.compute(schur);
-    const double pivot = lu_schur_.matrixLU().diagonal().cwiseAbs().minCoeff();
-    if (!(pivot > 1e-300) || !schur.allFinite()) return false;
-  }
-  return true;
+  if (!S.E.isCompressed()) return false;
+  C_ = S.C;
+  // The pattern of E is fixed by the mesh; re-analyse only if it changed.
+  if (S.E.nonZeros() != pattern_nnz_ || S.E.rows() != pattern_rows_) analyze(S.E);
+  method_ = factorize_symmetric(S.E) ? Method::kSymmetric : Method::kExact;
+  if (method_ == Method::kExact && !factorize_exact(S.E)) return false;
+  B_ = S.B;
+  A_ = S.A;
+  if (nb_ == 0) return true;
+  Eigen::MatrixXd schur = A_;
+  schur.noalias() -= B_ * Z_;
+  lu_schur_.compute(schur);
+  const double pivot = lu_schur_.matrixLU().diagonal().cwiseAbs().minCoeff();
+  return pivot > 1e-300 && schur.allFinite();
 }
 
 Eigen::VectorXd BorderedSolver::solve_factorized(const Eigen::VectorXd& r) const {
-  if (ne_ == 0) return lu_schur_.solve(r);
+  if (method_ == Method::kDense) return dense_lu_.solve(r);
   const Eigen::VectorXd y = solve_elastic(r.tail(ne_));
   if (nb_ == 0) return y;
   Eigen::VectorXd x(nb_ + ne_);

@@ -13,9 +13,9 @@
 // membrane-stiff ones), so the Newton iteration sees S^-1 to 1e-8 where it asks for the exact
 // solve (a fresh matrix; an old one's step is inexact anyway). That radius is estimated at each
 // factorization; above `skew_tolerance` (a fast spin) E is factorized exactly by the sparse LU
-// (COLAMD). All keep their fill-reducing ordering across factorizations of one pattern. A dense E
-// (half full or more: a reduced model's modal block) goes through a dense LU, exact and cheaper
-// than any sparse path at that size.
+// (COLAMD). All keep their fill-reducing ordering across factorizations of one pattern. Where E is
+// dense (half full or more: a reduced model's modal block) or absent, S is small and factorized
+// whole by one dense LU (math/dense_lu.hpp), exact and cheaper than any sparse path at that size.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <Eigen/SparseCholesky>
@@ -25,6 +25,7 @@
 
 #include "deployfx/integrate/block_matrix.hpp"
 #include "deployfx/math/block_ldlt.hpp"
+#include "deployfx/math/dense_lu.hpp"
 
 namespace deployfx::integrate {
 
@@ -33,7 +34,7 @@ class BorderedSolver {
   /// Largest estimated contraction rate of the dropped skew part for which E's symmetric part is
   /// factorized instead of E (0: always the exact LU).
   explicit BorderedSolver(double skew_tolerance = 1e-3) : skew_tolerance_(skew_tolerance) {}
-  /// Factorizes S; returns false if E or the Schur complement is singular (or not finite).
+  /// Factorizes S; returns false if S (dense), E or the Schur complement is singular (or not finite).
   bool factorize(const BlockMatrix& S);
   /// x = S^-1 r for the last factorized S. With `exact` false, an E factorized by its symmetric
   /// part is not refined against S: x then solves S with E's skew part dropped, off by the
@@ -58,17 +59,17 @@ class BorderedSolver {
   bool factorize_symmetric_part();                  // Es = E_sym_: by blocks, else the scalar LDL^T
   Eigen::VectorXd solve_symmetric(const Eigen::VectorXd& r) const;  // Es^-1 r
   bool factorize_exact(const SparseMatrix& E);
-  bool factorize_dense(const SparseMatrix& E);
+  bool factorize_dense(const BlockMatrix& S);  // S whole (Method::kDense)
   Eigen::MatrixXd solve_symmetric_block(const Eigen::MatrixXd& B) const;  // Es^-1 B, all columns at once
   Eigen::VectorXd solve_factorized(const Eigen::VectorXd& r) const;  // with Es for E if kSymmetric
-  Eigen::VectorXd solve_elastic(const Eigen::VectorXd& r) const;     // E^-1 r (Es^-1 r if kSymmetric)
+  Eigen::VectorXd solve_elastic(const Eigen::VectorXd& r) const;     // E^-1 r (Es^-1 r if kSymmetric), sparse E
 
   // How the last E was factorized.
   enum class Method { kDense, kSymmetric, kExact };
 
   double skew_tolerance_;
   Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_E_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_dense_E_;
+  DenseLU dense_lu_;  // Method::kDense: S whole
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_E_;
   BlockLDLT block_E_;
   bool ldlt_analyzed_ = false;
@@ -78,7 +79,7 @@ class BorderedSolver {
   std::vector<int> transpose_;
   bool lu_analyzed_ = false;
   Method method_ = Method::kExact;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_schur_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_schur_;  // sparse E: the Schur complement A - B Z
   Eigen::MatrixXd A_, B_, C_, Z_;  // S's border, kept for the refinement; Z = E^-1 C
   Eigen::Index pattern_nnz_ = -1, pattern_rows_ = -1;
   int nb_ = 0, ne_ = 0;

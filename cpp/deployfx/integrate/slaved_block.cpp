@@ -70,9 +70,8 @@ bool SlavedBlock::solve(const Eigen::VectorXd& r, Eigen::VectorXd* d) {
   if (state_ == State::kSet) {
     bool factorized = true;
     if (dense_) {
-      dense_block_ = Eigen::MatrixXd(block_.E);
-      dense_lu_.compute(dense_block_);
-      // PartialPivLU does not report singularity: a zero pivot shows as a non-finite solve below.
+      dense_lu_.lu() = block_.E;
+      factorized = dense_lu_.factorize();
     } else {
       factorized = sparse_.factorize(block_);
     }

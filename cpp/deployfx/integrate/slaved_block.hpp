@@ -3,12 +3,12 @@
 // block with which GeneralizedAlpha::relax_slaved relaxes a system's slaved coordinates
 // (SecondOrderSystem::slaved_velocities) at each step's predictor.
 #include <Eigen/Core>
-#include <Eigen/LU>
 #include <Eigen/SparseCore>
 #include <vector>
 
 #include "deployfx/integrate/block_matrix.hpp"
 #include "deployfx/integrate/bordered_solver.hpp"
+#include "deployfx/math/dense_lu.hpp"
 
 namespace deployfx::integrate {
 
@@ -45,8 +45,7 @@ class SlavedBlock {
   std::vector<Source> sources_;                 // per stored value of block_.E
   bool dense_ = false;
   BlockMatrix block_;  // S(idx, idx) as the elastic block of a matrix without border
-  Eigen::MatrixXd dense_block_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> dense_lu_;
+  DenseLU dense_lu_;
   BorderedSolver sparse_;
   State state_ = State::kEmpty;
 };
