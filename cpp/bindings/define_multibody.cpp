@@ -16,6 +16,7 @@
 #include "deployfx/multibody/newton_matrix.hpp"
 #include "deployfx/multibody/outputs.hpp"
 #include "deployfx/multibody/residual.hpp"
+#include "deployfx/multibody/tree_system.hpp"
 #include "run_loop.hpp"
 
 namespace py = pybind11;
@@ -281,6 +282,21 @@ void define_multibody(py::module_& m) {
             return residual(s, *d.data, q, v, a, t);
           },
           py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::kw_only(), py::arg("data") = nullptr)
+      .def(
+          "slaved_rows",
+          [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,
+             PyData* data) {
+            s.check_state(q, v, &a);
+            DataArg d(s, data);
+            Eigen::VectorXd rows;
+            const bool formed = slaved_rows(s, *d.data, q, v, a, t, rows);
+            const std::vector<int> slaved = TreeSystem(s, *d.data).slaved_velocities();
+            return py::make_tuple(slaved, formed ? py::cast(rows) : py::none());
+          },
+          py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::kw_only(), py::arg("data") = nullptr,
+          "(indices, rows): the velocity indices of the panels' in-plane coordinates (the rows Newton's "
+          "membrane sweeps relax) and the residual's rows there as formed alone (multibody::slaved_rows), "
+          "None where they are not (a reduced panel, a hinge riding on such a panel).")
       .def(
           "newton_matrix",
           [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,

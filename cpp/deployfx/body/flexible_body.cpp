@@ -159,6 +159,17 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
         fem::parity_decoupled(M_free_, free_, kParityTolerance))
       for (int k = 0; k < static_cast<int>(free_.size()); ++k)
         if (fem::dof_parity(free_[k]) == fem::Parity::kInPlane) in_plane_.push_back(k);
+    if (!in_plane_.empty()) {
+      std::vector<int> dofs;
+      for (const int k : in_plane_) dofs.push_back(free_[k]);
+      in_plane_rows_ = ffi_.select_rows(dofs);
+      std::vector<Eigen::Triplet<double>> t;
+      for (std::size_t i = 0; i < in_plane_.size(); ++i)
+        for (RowMajorMatrix::InnerIterator it(M_rows_, in_plane_[i]); it; ++it)
+          t.emplace_back(static_cast<int>(i), it.col(), it.value());
+      M_in_plane_.resize(static_cast<Eigen::Index>(in_plane_.size()), M_rows_.cols());
+      M_in_plane_.setFromTriplets(t.begin(), t.end());
+    }
   }
 }
 
@@ -312,6 +323,48 @@ void FlexibleBody::add_rows_product(double c, const RowMajorMatrix& A, const Eig
   r += y;
 }
 
+bool FlexibleBody::in_plane_force(const ElasticState& s, const Eigen::Vector3d& a, const Eigen::Vector3d& al,
+                                  const Eigen::Vector3d& w, Eigen::Ref<Eigen::VectorXd> out, Workspace* ws) const {
+  if (!in_plane_rows_) return false;
+  const auto m = static_cast<Eigen::Index>(in_plane_.size());
+  if (out.size() != m) throw std::invalid_argument("in_plane_force: out must have one entry per in-plane coordinate");
+  // add_projected(Q) and add_elastic_force() at these rows, term by term: Q, f_int (Eq. 14), and
+  // the Rayleigh damping alpha_M L_c d' + beta_K K_T(d) d' (the latter by the same central
+  // difference, of the rows alone).
+  out = ffi_.inertial_force_rows(*in_plane_rows_, a, al, w, s.d, s.dd, s.ddd);
+  Eigen::VectorXd local;
+  Eigen::VectorXd& f = ws ? ws->mesh_force : local;
+  spec_.model->in_plane_force(s.d, &f);
+  for (Eigen::Index i = 0; i < m; ++i) out(i) += f(free_[in_plane_[i]]);
+  if (spec_.alpha_M > 0) add_rows_product(spec_.alpha_M, M_in_plane_, s.v, out);
+  add_strain_rate_damping(s.d, s.dd, true, out);
+  return true;
+}
+
+void FlexibleBody::add_strain_rate_damping(const Eigen::VectorXd& d, const Eigen::VectorXd& dd, bool in_plane,
+                                           Eigen::Ref<Eigen::VectorXd> r) const {
+  // beta_K K_T(d) d' = beta_K d/dt f_int(d), by a central difference of f_int along d' (for linear
+  // strain K_L d' would damp the in-plane motion that large, inextensional bending needs, and
+  // stiffen the plate). Along the unit direction d' / |d'|, then scaled: a step 1e-6 / |d'|
+  // overflows for a denormal |d'| (a fuzz case: inf * 0 in d).
+  const double speed = dd.lpNorm<Eigen::Infinity>();
+  if (!(spec_.beta_K > 0 && speed > 0)) return;
+  const Eigen::VectorXd step = 1e-6 * (dd / speed);
+  Eigen::VectorXd fp, fm;
+  if (in_plane) {
+    spec_.model->in_plane_force(d + step, &fp);
+    spec_.model->in_plane_force(d - step, &fm);
+  } else {
+    spec_.model->internal_force(d + step, &fp, nullptr);
+    spec_.model->internal_force(d - step, &fm, nullptr);
+  }
+  const double scale = spec_.beta_K * speed / 2e-6;
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    const int dof = free_[in_plane ? in_plane_[i] : i];
+    r(i) += scale * (fp(dof) - fm(dof));
+  }
+}
+
 void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws) const {
   const int n = num_elastic();
   if (n == 0) return;
@@ -339,21 +392,10 @@ void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::Ve
     add_stiffness_product(1.0, q_el, r);
   }
   // Rayleigh damping. The stiffness-proportional part acts on the strain rate: beta_K K_L d'
-  // for linear strain, beta_K K_T(d) d' = beta_K d/dt f_int(d) for Green strain (K_L d' would
-  // damp the in-plane motion that large, inextensional bending needs, and stiffen the plate).
+  // for linear strain, beta_K K_T(d) d' for Green strain (add_strain_rate_damping).
   if (spec_.alpha_M > 0) add_mass_product(spec_.alpha_M, v_el, r);
   if (spec_.fidelity == Fidelity::kNonlinear) {
-    const double speed = dd.lpNorm<Eigen::Infinity>();
-    if (spec_.beta_K > 0 && speed > 0) {  // K_T(d) d' by a central difference of f_int along d'
-      // Along the unit direction d' / |d'|, then scaled: a step 1e-6 / |d'| overflows for a
-      // denormal |d'| (a fuzz case: inf * 0 in d).
-      const Eigen::VectorXd step = 1e-6 * (dd / speed);
-      Eigen::VectorXd fp, fm;
-      spec_.model->internal_force(d + step, &fp, nullptr);
-      spec_.model->internal_force(d - step, &fm, nullptr);
-      const double scale = spec_.beta_K * speed / 2e-6;
-      for (int i = 0; i < n; ++i) r(i) += scale * (fp(free_[i]) - fm(free_[i]));
-    }
+    add_strain_rate_damping(d, dd, false, r);
   } else if (spec_.beta_K > 0) {
     add_stiffness_product(spec_.beta_K, v_el, r);
   }

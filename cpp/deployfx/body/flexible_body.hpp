@@ -77,6 +77,7 @@ class FlexibleBody {
   struct Workspace {
     FloatingFrameInertia::ProductsMemo products;
     fem::ModalInternalForce::Memo modal;
+    Eigen::VectorXd mesh_force;  // in_plane_force()'s element forces (kept sized)
   };
 
   /// Checks the spec (std::invalid_argument naming `<name>.model`, `<name>.alpha_M`,
@@ -153,6 +154,15 @@ class FlexibleBody {
   /// (the paper's panel: omega dt = 14-670 for its in-plane Ritz vectors at dt = 10 ms) and
   /// follow the bending quadratically: integrate::SecondOrderSystem::slaved_velocities.
   const std::vector<int>& in_plane_coordinates() const { return in_plane_; }
+  /// add_projected(Q) + add_elastic_force() at the in-plane coordinates alone (in their order),
+  /// into out, from the frame's motion at s (a, al, w in its axes, as inertial_forces() takes
+  /// them), for a mesh panel with Green strain: the inertial force's rows
+  /// (FloatingFrameInertia::inertial_force_rows) and the elements' membrane and drilling terms
+  /// (fem::ShellModel::in_plane_force), about half a residual's work. False (out untouched) for
+  /// any other panel, whose caller takes the whole residual.
+  bool in_plane_rows() const { return in_plane_rows_.has_value(); }  ///< in_plane_force() forms them
+  bool in_plane_force(const ElasticState& s, const Eigen::Vector3d& a, const Eigen::Vector3d& al,
+                      const Eigen::Vector3d& w, Eigen::Ref<Eigen::VectorXd> out, Workspace* ws = nullptr) const;
   /// Strain energy at the staged s, J.
   double strain_energy(const ElasticState& s, const Workspace* ws = nullptr) const;
 
@@ -187,11 +197,18 @@ class FlexibleBody {
   // Ritz basis, where every entry is nonzero (a sparse product's scatter over a full pattern
   // costs several times a dense one's sums), over the nonzeros on a mesh.
   void add_stiffness_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const;
+  // r += beta_K K_T(d) d' on the elastic coordinates (a mesh with Green strain), or on the
+  // in-plane ones alone (in_plane_force()).
+  void add_strain_rate_damping(const Eigen::VectorXd& d, const Eigen::VectorXd& dd, bool in_plane,
+                               Eigen::Ref<Eigen::VectorXd> r) const;
   void add_mass_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const;
   // c_L L_c + sum_ij cm(i, j) M_ij on eta (manifold).
   Eigen::MatrixXd inertia_combination(double c_L, const Eigen::Matrix3d& cm) const;
   std::vector<int> free_;
   std::vector<int> in_plane_;  // in_plane_coordinates()
+  // A mesh panel's in-plane rows (in_plane_force()): of Q, and of L_c on the elastic coordinates.
+  std::optional<FloatingFrameInertia::RowSelection> in_plane_rows_;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> M_in_plane_;
   Eigen::SparseMatrix<double> K_free_, M_free_;
   // The same by rows where the residual multiplies them (a mesh's K_L and L_c, the manifold's
   // L_c): math/sparse_rows.hpp, Eigen's sums without its scatter's latency.

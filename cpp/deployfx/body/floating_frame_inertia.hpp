@@ -15,6 +15,7 @@
 #include <Eigen/SparseCore>
 #include <array>
 #include <memory>
+#include <vector>
 
 #include "deployfx/fem/shell_model.hpp"
 
@@ -142,6 +143,30 @@ class FloatingFrameInertia {
                                           const Eigen::Vector3d& w, const Eigen::VectorXd& d,
                                           const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd,
                                           ProductsMemo* memo = nullptr) const;
+
+  /// The generalized inertial force Q of inertial_forces() at a few of its dofs alone (a Newton
+  /// sweep on a flat panel's in-plane rows needs no other: multibody::slaved_rows): each product
+  /// with M_ij and L_c restricted to those rows, by rows (math/sparse_rows.hpp). Immutable, formed
+  /// once per model by select_rows() on a mesh.
+  class RowSelection {
+   public:
+    const std::vector<int>& dofs() const { return dofs_; }
+
+   private:
+    friend class FloatingFrameInertia;
+    std::vector<int> dofs_;
+    Eigen::SparseMatrix<double, Eigen::RowMajor> Mij_;  // rows dofs_ of M_0 .. M_8, stacked (9 m x ndof)
+    Eigen::SparseMatrix<double, Eigen::RowMajor> M_;    // rows dofs_ of L_c (m x ndof)
+    Matrix3X S1_;                                       // columns dofs_ of S1
+    Eigen::Matrix<double, 9, Eigen::Dynamic> C_;        // and of C
+  };
+  /// The selection of the given dofs (each in [0, num_dofs())); std::invalid_argument otherwise,
+  /// or in a Ritz basis (projected(): its Q is a few dozen entries, formed whole).
+  RowSelection select_rows(const std::vector<int>& dofs) const;
+  /// Q's entries at rows.dofs() (in that order), as inertial_forces() forms them (to round-off).
+  Eigen::VectorXd inertial_force_rows(const RowSelection& rows, const Eigen::Vector3d& a, const Eigen::Vector3d& al,
+                                      const Eigen::Vector3d& w, const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
+                                      const Eigen::VectorXd& ddd) const;
 
  private:
   FloatingFrameInertia() = default;

@@ -383,7 +383,12 @@ bool ShellElement::tangent_type_major(const ElemVec& d_W, ElemMat* K_t) const {
   return true;
 }
 
-DEPLOYFX_FLATTEN void ShellElement::evaluate(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_t, double* energy) const {
+void ShellElement::in_plane_force(const ElemVec& d_W, ElemVec* f_W) const {
+  evaluate(d_W, f_W, nullptr, nullptr, world_axes_);
+}
+
+DEPLOYFX_FLATTEN void ShellElement::evaluate(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_t, double* energy,
+                                             bool in_plane_rows) const {
   // Each strain operator touches few of the 24 dofs, through the nodes' shape functions: Bm and
   // G the (u, v, w), Bb the (theta_x, theta_y), Bs the (w, theta_x, theta_y), Bd the (u, v,
   // theta_z). The force and tangent are formed from those, with the tangent in the dof-type-major
@@ -391,7 +396,8 @@ DEPLOYFX_FLATTEN void ShellElement::evaluate(const ElemVec& d_W, ElemVec* f_W, E
   // each operator's dofs are contiguous: a sixth of the multiply-adds of the 24-column products.
   // strain_energy() keeps the 24-column operators (the tests' independent reference); `energy` here
   // is the engine's, from the same strains and resultants as the force. Only what is asked for is
-  // formed (a Newton matrix asks for the tangent alone, an output for the energy alone).
+  // formed (a Newton matrix asks for the tangent alone, an output for the energy alone, a sweep on
+  // the in-plane rows for those rows: the membrane and drilling terms, no moments or shear).
   const ElemVec d = to_element(d_W);
   // Column a: node a's dofs.
   const Eigen::Map<const Eigen::Matrix<double, kNodeDofs, 4>> X(d.data());
@@ -418,26 +424,33 @@ DEPLOYFX_FLATTEN void ShellElement::evaluate(const ElemVec& d_W, ElemVec* f_W, E
     const double tx_x = field(TX, p.dNx), tx_y = field(TX, p.dNy);
     const Eigen::Vector3d kap(ty_x, -tx_y, ty_y - tx_x);
     const Eigen::Vector3d N = A_ * eps + B_ * kap;
-    const Eigen::Vector3d M = B_ * eps + D_ * kap;
-    const Eigen::Vector2d Q = As_ * (p.Bs_wr * wr);
     const double drill_strain = field(TZ, p.N) - 0.5 * (field(V, p.dNx) - field(U, p.dNy));
     const double w = p.weight;
     const double drill = w * drill_modulus_ * drill_strain;
+    if (f_W) {
+      // f = int (Bm_bar^T N + Bb^T M + Bs^T Q + Bd^T drill) dA, by node; the in-plane rows (u, v,
+      // theta_z) hold Bm_bar's and the drilling's terms alone.
+      const Eigen::Vector3d nx = w * (N(0) * gx + N(2) * gy), ny = w * (N(1) * gy + N(2) * gx);
+      if (in_plane_rows)
+        F.topRows<2>().noalias() += nx.head<2>() * p.dNx.transpose() + ny.head<2>() * p.dNy.transpose();
+      else
+        F.topRows<3>().noalias() += nx * p.dNx.transpose() + ny * p.dNy.transpose();
+      F.row(TZ) += drill * p.N.transpose();
+      F.row(U) += 0.5 * drill * p.dNy.transpose();
+      F.row(V) -= 0.5 * drill * p.dNx.transpose();
+    }
+    if (!energy && !K_W && in_plane_rows) continue;  // the in-plane rows alone: done
+    const Eigen::Vector3d M = B_ * eps + D_ * kap;
+    const Eigen::Vector2d Q = As_ * (p.Bs_wr * wr);
     if (energy) {
       const Eigen::Vector2d gam = p.Bs_wr * wr;  // the shear strains
       *energy += 0.5 * (w * (eps.dot(N) + kap.dot(M) + gam.dot(Q)) + drill * drill_strain);
     }
-    if (f_W) {
-      // f = int (Bm_bar^T N + Bb^T M + Bs^T Q + Bd^T drill) dA, by node.
-      const Eigen::Vector3d nx = w * (N(0) * gx + N(2) * gy), ny = w * (N(1) * gy + N(2) * gx);
-      F.topRows<3>().noalias() += nx * p.dNx.transpose() + ny * p.dNy.transpose();
+    if (f_W && !in_plane_rows) {
       const Eigen::Matrix<double, 12, 1> fs = p.Bs_wr.transpose() * (w * Q);
       F.row(W) += fs.segment<4>(0).transpose();
       F.row(TX) += fs.segment<4>(4).transpose() - w * (M(1) * p.dNy + M(2) * p.dNx).transpose();
       F.row(TY) += fs.segment<4>(8).transpose() + w * (M(0) * p.dNx + M(2) * p.dNy).transpose();
-      F.row(TZ) += drill * p.N.transpose();
-      F.row(U) += 0.5 * drill * p.dNy.transpose();
-      F.row(V) -= 0.5 * drill * p.dNx.transpose();
     }
     if (!K_W) continue;
     // K_L + K_L* (Eq. 19, 23) on the compact operators: Bm_bar on (u, v, w), Bb on (theta_x,

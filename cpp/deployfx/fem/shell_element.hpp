@@ -79,6 +79,12 @@ class ShellElement {
   /// type t (u, v, w, theta_x, theta_y, theta_z) of node a: assembly without reordering it. False
   /// (K_t untouched) for any other element.
   bool tangent_type_major(const ElemVec& d_W, ElemMat* K_t) const;
+  /// internal_force()'s force at the in-plane dofs (u, v, theta_z of each node) alone, the other
+  /// rows zero, for an element whose axes are the world's (a mesh in the x-y plane: the membrane
+  /// and drilling terms, without the bending and shear resultants' rows); any other element's
+  /// whole force. A Newton sweep on a flat panel's in-plane rows (multibody::slaved_rows) needs no
+  /// other.
+  void in_plane_force(const ElemVec& d_W, ElemVec* f_W) const;
 
   /// The ingredients of the Green membrane strain at Gauss point g, on world dofs, for its exact
   /// projection on a Ritz basis (fem/modal_internal_force): the gradients psi = G d (Eq. 20), so
@@ -134,8 +140,9 @@ class ShellElement {
     Eigen::Matrix<double, 3, 8> wBBb;
     Eigen::Matrix<double, 2, 12> wAsBs;
   };
-  /// internal_force()'s force (world axes) and type-major tangent (E axes), each if asked for.
-  void evaluate(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_t, double* energy) const;
+  /// internal_force()'s force (world axes) and type-major tangent (E axes), each if asked for;
+  /// with `in_plane_rows` (an element in world axes), the force's in-plane rows alone.
+  void evaluate(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_t, double* energy, bool in_plane_rows = false) const;
   /// The tangent's blocks that no displacement enters, into K_rot_ and Kd_ (constructor).
   void constant_tangent();
   /// d_E = T d_W, T = blockdiag(R_WE^T); returns T^T K T. (The identity, copying, for an element

@@ -150,6 +150,16 @@ void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, Sp
   }
 }
 
+void ShellModel::in_plane_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const {
+  check_size(u, "u");
+  f->setZero(num_dofs());
+  for (int e = 0; e < num_elements(); ++e) {
+    ElemVec fe;
+    elements_[e].in_plane_force(gather(u, e), &fe);
+    scatter(fe, e, f);
+  }
+}
+
 void ShellModel::add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, double coef,
                              double* values, Eigen::VectorXd* f) const {
   check_size(u, "u");

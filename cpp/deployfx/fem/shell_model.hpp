@@ -46,6 +46,9 @@ class ShellModel {
   /// a sixth of strain_energy()'s multiply-adds, equal to round-off).
   void internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, SparseMatrix* K_T,
                       double* energy = nullptr) const;
+  /// internal_force()'s force at the in-plane dofs (u, v, theta_z of each node) into f
+  /// (num_dofs()): exact there (ShellElement::in_plane_force), the other rows zero or exact.
+  void in_plane_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const;
   /// For each element e, where its 24 x 24 entries (column-major, k = 0..575) land in the values
   /// of stiffness()'s pattern: element_slots()[576 e + k].
   const std::vector<int>& element_slots() const { return slots_; }

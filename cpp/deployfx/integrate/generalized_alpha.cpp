@@ -328,6 +328,11 @@ Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Ei
   const double t1 = s.t + h, c = (1 - af) / (1 - am);
   Eigen::VectorXd r, r_before, vdot_before;  // the residual at vdot; before the last sweep
   double slaved_before = std::numeric_limits<double>::infinity();
+  // The whole residual at vdot (what Newton continues from).
+  auto residual_at = [&](const Eigen::VectorXd& x) {
+    const Iterate x1 = iterate(s, h, x, w);
+    return sys_.residual(x1.q, x1.v, x1.ve, t1);
+  };
   for (int sweep = 0;; ++sweep) {
     // The state vdot gives at t_{n+1}, and its residual.
     const Iterate x1 = iterate(s, h, vdot, w);
@@ -339,26 +344,35 @@ Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Ei
                           " s): the iterate is not finite");
       }
       vdot = std::move(vdot_before);
-      return r_before;
+      return r_before.size() ? r_before : residual_at(vdot);
     }
-    r = sys_.residual(q1, v1, ve, t1);
-    Eigen::VectorXd rs(slaved_.size());  // the slaved rows; r's other rows' largest entry below
-    for (std::size_t i = 0; i < slaved_.size(); ++i) rs(i) = r(slaved_[i]), r(slaved_[i]) = 0.0;
-    const double others = r.lpNorm<Eigen::Infinity>();
-    for (std::size_t i = 0; i < slaved_.size(); ++i) r(slaved_[i]) = rs(i);
+    // The slaved rows, and the other rows' largest entry. Before the first sweep the system may
+    // form the slaved rows alone, for about half a residual (SecondOrderSystem::slaved_residual);
+    // the others are then unknown and the sweep is taken (the rows after a kept matrix's update
+    // exceed them 50-100 times, below), and the residual after it is whole.
+    Eigen::VectorXd rs(slaved_.size());
+    double others = std::numeric_limits<double>::quiet_NaN();
+    const bool whole = !(sweep == 0 && sys_.slaved_residual(q1, v1, ve, t1, rs));
+    if (whole) {
+      r = sys_.residual(q1, v1, ve, t1);
+      for (std::size_t i = 0; i < slaved_.size(); ++i) rs(i) = r(slaved_[i]), r(slaved_[i]) = 0.0;
+      others = r.lpNorm<Eigen::Infinity>();
+      for (std::size_t i = 0; i < slaved_.size(); ++i) r(slaved_[i]) = rs(i);
+    }
     const double slaved = rs.lpNorm<Eigen::Infinity>();
     if (!(slaved < slaved_before)) {  // the last sweep did not reduce the slaved rows: undo it
-      if (sweep > 0) vdot = std::move(vdot_before), r = std::move(r_before);
-      return r;
+      if (sweep == 0) return whole ? r : residual_at(vdot);
+      vdot = std::move(vdot_before);
+      return r_before.size() ? r_before : residual_at(vdot);
     }
-    if (sweep == kSlavedSweeps || slaved <= others) return r;
+    if (whole && (sweep == kSlavedSweeps || slaved <= others)) return r;
     if (slaved_block_.empty() || !(std::abs(slaved_h_ - h) <= newton_.step_reuse * h)) {
       slaved_block_.set(sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c), slaved_);
       slaved_h_ = h;
     }
     Eigen::VectorXd d;
-    if (!slaved_block_.solve(rs, &d)) return r;
-    vdot_before = vdot, r_before = std::move(r), slaved_before = slaved;
+    if (!slaved_block_.solve(rs, &d)) return whole ? r : residual_at(vdot);
+    vdot_before = vdot, r_before = whole ? std::move(r) : Eigen::VectorXd(), slaved_before = slaved;
     for (std::size_t i = 0; i < slaved_.size(); ++i) vdot(slaved_[i]) -= d(i);
   }
 }

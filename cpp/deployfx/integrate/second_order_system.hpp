@@ -54,6 +54,13 @@ class SecondOrderSystem {
   /// quasi-statically. The integrator relaxes their rows at each step's predictor, so that Newton
   /// starts from a membrane state consistent with the predicted bending (GeneralizedAlpha::step).
   virtual std::vector<int> slaved_velocities() const { return {}; }
+  /// r(q, v, a, t)'s rows at slaved_velocities() alone (in that order) into `rows`, where the
+  /// system forms them for clearly less than a whole residual (a sweep on them needs no other
+  /// row). False (rows untouched) where it cannot (default): the caller takes the residual.
+  virtual bool slaved_residual(const Eigen::VectorXd& /*q*/, const Eigen::VectorXd& /*v*/,
+                               const Eigen::VectorXd& /*a*/, double /*t*/, Eigen::VectorXd& /*rows*/) {
+    return false;
+  }
 
   // Conserved momenta. A free-floating system's first rows are the balance of its total momentum,
   // d(Pi)/dt = 0 with no external load (You et al. 2016, Eq. 36-43). An integrator may replace

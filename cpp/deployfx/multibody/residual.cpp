@@ -41,4 +41,29 @@ Eigen::VectorXd residual(const Model& m, Data& d, const Eigen::VectorXd& q, cons
   return r;
 }
 
+bool slaved_rows(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                 const Eigen::VectorXd& a, double t, Eigen::VectorXd& rows) {
+  Eigen::Index count = 0;
+  for (int k : m.panels()) {
+    const Body& b = m.body(k);
+    if (b.panel->in_plane_coordinates().empty()) continue;
+    if (!b.panel->in_plane_rows()) return false;
+    count += static_cast<Eigen::Index>(b.panel->in_plane_coordinates().size());
+  }
+  for (int k = 0; k < m.num_hinges(); ++k)
+    if (m.body(k).attachment && !m.body(m.body(k).parent).panel->in_plane_coordinates().empty()) return false;
+  forward_kinematics(m, d, q, v, &a, t);
+  rows.resize(count);
+  Eigen::Index first = 0;
+  for (int k : m.panels()) {
+    const Body& b = m.body(k);
+    const auto n = static_cast<Eigen::Index>(b.panel->in_plane_coordinates().size());
+    if (n == 0) continue;
+    const BodyMotion<double>& C = d.motion.body[static_cast<std::size_t>(k)];
+    b.panel->in_plane_force(d.elastic[k], C.a, C.al, C.w, rows.segment(first, n), &d.panels[k]);
+    first += n;
+  }
+  return true;
+}
+
 }  // namespace deployfx::multibody

@@ -18,4 +18,12 @@ namespace deployfx::multibody {
 Eigen::VectorXd residual(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                          const Eigen::VectorXd& a, double t);
 
+/// r's rows at the panels' in-plane coordinates alone (TreeSystem::slaved_velocities(), in that
+/// order) into `rows`, for about half a residual's work where every such panel is a mesh with
+/// Green strain (body::FlexibleBody::in_plane_force) and no hinge rides on it (the attachments'
+/// forces, which act on its rows, come from the subtree's whole backward pass). False (rows
+/// untouched) otherwise: the caller then takes the whole residual. Stages the kinematics in d.
+bool slaved_rows(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                 const Eigen::VectorXd& a, double t, Eigen::VectorXd& rows);
+
 }  // namespace deployfx::multibody

@@ -60,6 +60,11 @@ double TreeSystem::newton_step_limit(const Eigen::VectorXd& q, const Eigen::Vect
   return friction_step_limit(m_, d_, q, v, dv);
 }
 
+bool TreeSystem::slaved_residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
+                                 double t, Eigen::VectorXd& rows) {
+  return multibody::slaved_rows(m_, d_, q, v, a, t, rows);
+}
+
 std::vector<int> TreeSystem::slaved_velocities() const {
   std::vector<int> out;
   for (const int k : m_.panels())

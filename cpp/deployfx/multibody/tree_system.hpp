@@ -38,6 +38,9 @@ class TreeSystem final : public integrate::SecondOrderSystem {
   /// Every Green-strain panel's in-plane coordinates (FlexibleBody::in_plane_coordinates), at its
   /// elastic block's place in the velocity ordering (Body::iv_el).
   std::vector<int> slaved_velocities() const override;
+  /// Their rows by multibody::slaved_rows (mesh panels with Green strain, nothing riding on them).
+  bool slaved_residual(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,
+                       Eigen::VectorXd& rows) override;
 
  private:
   const Model& m_;
