@@ -190,6 +190,11 @@ class GeneralizedAlpha {
     bool finite() const { return q.allFinite() && v.allFinite() && ve.allFinite(); }
   };
   Iterate iterate(const AlphaState& s, double h, const Eigen::VectorXd& vdot, const Eigen::VectorXd& w) const;
+  /// Factorizes the Newton matrix for steps of size h: formed whole at the iterate x (at t1, with
+  /// the momentum rows' Jacobian), or matrix_ as it is (its elastic blocks refreshed by the
+  /// caller: whole false); sets the slaved block from it. False if it is singular (no kept matrix
+  /// then: factor_h_ < 0).
+  bool factorize_at(const Iterate& x, double t1, double h, bool whole);
   /// The consistent predictor (step()): relaxes the slaved coordinates' accelerations in vdot
   /// at the predictor; returns the residual at the relaxed predictor (empty: none evaluated).
   Eigen::VectorXd relax_slaved(const AlphaState& s, double h, Eigen::VectorXd& vdot, const Eigen::VectorXd& w);
