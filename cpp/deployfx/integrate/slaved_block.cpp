@@ -78,7 +78,7 @@ bool SlavedBlock::solve(const Eigen::VectorXd& r, Eigen::VectorXd* d) {
     state_ = factorized ? State::kFactorized : State::kSingular;
   }
   if (state_ != State::kFactorized) return false;
-  Eigen::VectorXd x = dense_ ? Eigen::VectorXd(dense_lu_.solve(r)) : sparse_.solve(r);
+  Eigen::VectorXd x = dense_ ? Eigen::VectorXd(dense_lu_.solve(r)) : sparse_.solve(r, false);
   if (!x.allFinite()) return false;
   *d = std::move(x);
   return true;

@@ -18,14 +18,18 @@ namespace deployfx::integrate {
 /// included, and the dense border's), so set() gathers values through slots found once per
 /// pattern. A small or dense block (a reduced panel's in-plane Ritz coordinates) is factorized
 /// densely; a large sparse one (a mesh's in-plane dofs, three a node) by the bordered solver
-/// without a border: the block LDL^T of its symmetric part over the nodes' 3 x 3 blocks, its solve
-/// refined against the skew part to 1e-8 (the sparse LU where that part is not small).
+/// without a border: the block LDL^T of its symmetric part over the nodes' 3 x 3 blocks (the sparse
+/// LU where the skew part is not small), its solve not refined against that part: a sweep is a
+/// relaxation whose residual is evaluated after it, and a correction off by the skew part's
+/// radius (below 1e-3) relaxes as well (the paper's 15 x 10 scene: the same iterations, 4 % less
+/// CPU than refined to 1e-8; docs/performance-history.md, session 27).
 class SlavedBlock {
  public:
   void set(const BlockMatrix& S, const std::vector<int>& idx);
   bool empty() const { return state_ == State::kEmpty; }
   void reset() { state_ = State::kEmpty; }
-  /// d = S(idx, idx)^-1 r; false (d untouched) if the block is empty or singular.
+  /// d = S(idx, idx)^-1 r (a large sparse block's skew part dropped: above); false (d untouched)
+  /// if the block is empty or singular.
   bool solve(const Eigen::VectorXd& r, Eigen::VectorXd* d);
 
  private:
