@@ -375,21 +375,8 @@ Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Ei
     }
     if (whole && (sweep == kSlavedSweeps || slaved <= others)) return r;
     if (slaved_block_.empty() || !(std::abs(slaved_h_ - h) <= newton_.step_reuse * h)) {
-      if (newton_.reuse_jacobian && solver_.factorizations() > 0 && !solver_.dense() && full_steps_ == 0) {
-        // A sparse matrix for a new step size: the whole Newton matrix here, factorized and kept
-        // for the step's iterations (its state is the predictor's, a sweep from the first
-        // iterate's), rather than one for the sweeps and another at the first iteration: on the
-        // paper's 15 x 10 scene, 30 s, 4 % more iterations and 2 % fewer factorizations, 3 % less
-        // CPU (docs/performance-history.md, session 27). Dense matrices cost little to form.
-        if (!factorize_at(x1, t1, h, true)) {
-          factor_h_ = slaved_h_ = -1;
-          throw StepFailure("Newton failed at t = " + std::to_string(t1) + " s (step " + std::to_string(h) +
-                            " s): the iteration matrix is singular");
-        }
-      } else {
-        slaved_block_.set(sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c), slaved_);
-        slaved_h_ = h;
-      }
+      slaved_block_.set(sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c), slaved_);
+      slaved_h_ = h;
     }
     Eigen::VectorXd d;
     if (!slaved_block_.solve(rs, &d)) return whole ? r : residual_at(vdot);

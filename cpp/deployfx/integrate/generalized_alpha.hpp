@@ -205,10 +205,10 @@ class GeneralizedAlpha {
   BorderedSolver solver_;
   double factor_h_ = -1;
   // The system's slaved coordinates (SecondOrderSystem::slaved_velocities), and their block of the
-  // iteration matrix with the step size it is for: the last factorization's (set with it; a
-  // sparse matrix for a new step size is formed and factorized at the predictor, relax_slaved),
-  // or, for a dense one, a matrix formed at a predictor when the step size changed (the step then
-  // factorizes its own).
+  // iteration matrix with the step size it is for: the last factorization's (set with it), or one
+  // formed at a predictor when the step size changed (the step then factorizes its own: kept for
+  // Newton instead, the matrix of the unrelaxed predictor, whose membrane misfit is what the
+  // sweeps remove, served it worse; docs/performance-history.md, session 27).
   std::vector<int> slaved_;
   SlavedBlock slaved_block_;
   double slaved_h_ = -1;
