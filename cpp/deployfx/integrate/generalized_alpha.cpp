@@ -378,8 +378,15 @@ Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Ei
       return r_before.size() ? r_before : residual_at(vdot);
     }
     if (whole && (sweep == kSlavedSweeps || slaved <= others)) return r;
-    if (slaved_block_.empty() || !(std::abs(slaved_h_ - h) <= newton_.step_reuse * h)) {
-      slaved_block_.set(sys_.iteration_matrix(q1, v1, ve, t1, 1.0, h * gamma * c, h * h * beta * c), slaved_);
+    if (!block_ready) {
+      // The block for this step size: the kept matrix with its elastic blocks formed anew here
+      // (SecondOrderSystem::refresh_elastic_blocks: the slaved rows and columns lie in them, and
+      // their values are the whole matrix's), else a whole matrix.
+      const double c_v = h * gamma * c, c_q = h * h * beta * c;
+      slaved_source_ = matrix_;
+      if (!(factor_h_ > 0 && sys_.refresh_elastic_blocks(slaved_source_, q1, v1, ve, t1, 1.0, c_v, c_q)))
+        slaved_source_ = sys_.iteration_matrix(q1, v1, ve, t1, 1.0, c_v, c_q);
+      slaved_block_.set(slaved_source_, slaved_);
       slaved_h_ = h;
     }
     Eigen::VectorXd d;

@@ -212,6 +212,7 @@ class GeneralizedAlpha {
   std::vector<int> slaved_;
   SlavedBlock slaved_block_;
   double slaved_h_ = -1;
+  BlockMatrix slaved_source_;  // relax_slaved's matrix for a block at a new step size (kept storage)
   // Steps left that renew the matrix at every iteration (NewtonOptions::full_newton_steps), and
   // the elastic blocks' refreshes since the last whole matrix (NewtonOptions::elastic_refreshes).
   int full_steps_ = 0;
