@@ -94,11 +94,25 @@ def test_dense_lu_pivots_across_the_border():
         assert method == "dense-lu"
         backward = np.abs(M @ x - r).max() / (np.abs(M).sum(axis=1).max() * np.abs(x).max())
         assert backward <= 10 * np.finfo(float).eps
+    # Above DenseLU::kUnblocked rows Eigen's blocked LU takes over: the same backward error.
+    m = 100
+    M = rng.normal(size=(m, m))
+    np.fill_diagonal(M, 0.0)
+    r = rng.normal(size=m)
+    x, method = _core.bordered_solve(M[:nb, :nb], M[:nb, nb:], M[nb:, :nb], sp.csc_matrix(M[nb:, nb:]), r)
+    assert method == "dense-lu"
+    assert np.abs(M @ x - r).max() / (np.abs(M).sum(axis=1).max() * np.abs(x).max()) <= 10 * np.finfo(float).eps
+    # A non-finite entry (here in the first column, below its pivot: the pivot search passes it
+    # over and the elimination spreads it) makes S singular for the solver, on either path.
+    for M in (S.copy(), np.pad(S, ((0, m - n - nb), (0, m - n - nb))) + np.eye(m) * (np.arange(m) >= n + nb)):
+        M[-1, 0] = np.nan
+        with pytest.raises(ValueError, match="singular"):
+            _core.bordered_solve(M[:nb, :nb], M[:nb, nb:], M[nb:, :nb], sp.csc_matrix(M[nb:, nb:]), M[:, 0] * 0)
     S_singular = S.copy()
     S_singular[:, -1] = 0.0
     with pytest.raises(ValueError, match="singular"):
         _core.bordered_solve(S_singular[:nb, :nb], S_singular[:nb, nb:], S_singular[nb:, :nb],
-                             sp.csc_matrix(S_singular[nb:, nb:]), r)
+                             sp.csc_matrix(S_singular[nb:, nb:]), np.ones(n + nb))
 
 
 def _solve_check(E, nb=7, seed=3):

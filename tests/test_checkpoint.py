@@ -84,6 +84,16 @@ def test_resume_with_error_controlled_steps(model):
     check_resumes(scene(model), tolerance=1e-4)
 
 
+@pytest.mark.parametrize("tolerance", [None, 1e-4], ids=["fixed", "error-controlled"])
+def test_resume_a_sparse_green_strain_mesh(tolerance):
+    """A 4 x 3 nonlinear mesh (its elastic block sparse, unlike 2 x 1's): Newton relaxes the
+    membrane after every kept-matrix iteration, reading the in-plane rows formed alone where the
+    slaved block for the step size is at hand, and forms a new step size's block from the kept
+    matrix (every step of an error-controlled run has its own size): all of it is a function of
+    the state a checkpoint restores."""
+    check_resumes(scene("nonlinear", nx=4, ny=3), tolerance=tolerance)
+
+
 def test_resume_two_wings_and_through_a_file(tmp_path):
     sc = scene("linear", wings=2)
     full, cks, during = check_resumes(sc)

@@ -296,7 +296,8 @@ void define_multibody(py::module_& m) {
           py::arg("q"), py::arg("v"), py::arg("a"), py::arg("t"), py::kw_only(), py::arg("data") = nullptr,
           "(indices, rows): the velocity indices of the panels' in-plane coordinates (the rows Newton's "
           "membrane sweeps relax) and the residual's rows there as formed alone (multibody::slaved_rows), "
-          "None where they are not (a reduced panel, a hinge riding on such a panel).")
+          "None where they are not (a reduced Green-strain panel; a hinge riding on any panel with in-plane "
+          "coordinates).")
       .def(
           "newton_matrix",
           [](const Model& s, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a, double t,

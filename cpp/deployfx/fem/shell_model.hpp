@@ -47,7 +47,8 @@ class ShellModel {
   void internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, SparseMatrix* K_T,
                       double* energy = nullptr) const;
   /// internal_force()'s force at the in-plane dofs (u, v, theta_z of each node) into f
-  /// (num_dofs()): exact there (ShellElement::in_plane_force), the other rows zero or exact.
+  /// (num_dofs()): exact there (ShellElement::in_plane_force); the other rows unspecified (zero,
+  /// exact, or partial where elements of other orientations share a node).
   void in_plane_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const;
   /// For each element e, where its 24 x 24 entries (column-major, k = 0..575) land in the values
   /// of stiffness()'s pattern: element_slots()[576 e + k].

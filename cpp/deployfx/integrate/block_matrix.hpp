@@ -3,7 +3,8 @@
 // and columns (base, hinges) bordering a large sparse elastic block,
 //   S = [ A  B ]   A: nb x nb, B: nb x ne (dense)
 //       [ C  E ]   C: ne x nb (dense), E: ne x ne (sparse, the elastic dofs),
-// solved by the Schur complement on the border (architecture.md, "Performance shape").
+// solved by the Schur complement on the border (architecture.md, "Performance shape"; a small or
+// dense E: by one LU of S whole, integrate/bordered_solver.hpp).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 

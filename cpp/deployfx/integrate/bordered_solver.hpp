@@ -1,6 +1,8 @@
 #pragma once
-// Solves S x = r for a BlockMatrix by the Schur complement on its dense border:
-//   E y = r_e,  E Z = C,  (A - B Z) x_b = r_b - B y,  x_e = y - Z x_b.
+// Solves S x = r for a BlockMatrix: with a sparse elastic block E, by the Schur complement on the
+// dense border,
+//   E y = r_e,  E Z = C,  (A - B Z) x_b = r_b - B y,  x_e = y - Z x_b;
+// a dense or absent E (below), by one LU of S whole.
 //
 // The elastic block E = c_a M + c_v (2 G_y(w) + damping) + c_q (K_T + ...) is symmetric but for the
 // floating frame's gyroscopic terms G_y (hinged_system_jacobians.cpp), which are skew. Where they
@@ -48,8 +50,9 @@ class BorderedSolver {
   bool dense() const { return method_ == Method::kDense; }
   /// Numeric factorizations done so far (for cost accounting).
   long factorizations() const { return factorizations_; }
-  /// How the last E was factorized: "none" (no elastic block), "dense-lu", "block-ldlt",
-  /// "simplicial-ldlt" (both of the symmetric part) or "sparse-lu".
+  /// How the last S was factorized: "none" (no elastic block: S whole by the dense LU), "dense-lu"
+  /// (a dense E: S whole), or how its sparse E was: "block-ldlt", "simplicial-ldlt" (both of the
+  /// symmetric part) or "sparse-lu".
   const char* method() const;
 
  private:
@@ -64,7 +67,7 @@ class BorderedSolver {
   Eigen::VectorXd solve_factorized(const Eigen::VectorXd& r) const;  // with Es for E if kSymmetric
   Eigen::VectorXd solve_elastic(const Eigen::VectorXd& r) const;     // E^-1 r (Es^-1 r if kSymmetric), sparse E
 
-  // How the last E was factorized.
+  // How the last S was factorized: whole (kDense), or its sparse E by its symmetric part or exactly.
   enum class Method { kDense, kSymmetric, kExact };
 
   double skew_tolerance_;

@@ -313,10 +313,12 @@ GeneralizedAlpha::Iterate GeneralizedAlpha::iterate(const AlphaState& s, double 
 // the other coordinates held, bring them to the membrane equilibrium of the predicted bending
 // (nonlinear elimination: Lanzkron, Rose & Wilkes, SIAM J. Sci. Comput. 17, 1996, 945-960),
 // until their residual no longer exceeds the other rows' (at most kSlavedSweeps; a sweep that does
-// not reduce it is undone); Newton on all rows starts from there. The sweeps' matrix is the slaved
-// block of the last factorization for this step size (nearly constant: M, K and small in-plane
-// geometric terms), or one formed here when the step size changed. The converged step solves the
-// same equations: only Newton's start moves.
+// not reduce it is undone; where the system forms the slaved rows alone, the first sweep is taken
+// unless they are exactly zero, SecondOrderSystem::slaved_residual); Newton on all rows starts
+// from there. The sweeps' matrix is the slaved block of the last factorization for this step size
+// (nearly constant: M, K and small in-plane geometric terms), or one formed here when the step
+// size changed (the kept matrix with its elastic blocks refreshed, else a whole one). The
+// converged step solves the same equations: only Newton's start moves.
 // With a sparse iteration matrix (the full meshes) the sweeps also follow every Newton iteration
 // with a kept matrix (NewtonOptions::relax_every_iteration; their last residual is the next
 // iteration's): each such increment leaves the in-plane rows 50-100 times the others (the bending
@@ -372,6 +374,7 @@ Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Ei
       for (std::size_t i = 0; i < slaved_.size(); ++i) r(slaved_[i]) = rs(i);
     }
     const double slaved = rs.lpNorm<Eigen::Infinity>();
+    if (!whole && slaved == 0) return residual_at(vdot);  // at equilibrium already: no sweep
     if (!(slaved < slaved_before)) {  // the last sweep did not reduce the slaved rows: undo it
       if (sweep == 0) return whole ? r : residual_at(vdot);
       vdot = std::move(vdot_before);

@@ -196,7 +196,8 @@ class GeneralizedAlpha {
   /// then: factor_h_ < 0).
   bool factorize_at(const Iterate& x, double t1, double h, bool whole);
   /// The consistent predictor (step()): relaxes the slaved coordinates' accelerations in vdot
-  /// at the predictor; returns the residual at the relaxed predictor (empty: none evaluated).
+  /// at the predictor; returns the whole residual at the relaxed predictor (empty: the system has
+  /// no slaved coordinates).
   Eigen::VectorXd relax_slaved(const AlphaState& s, double h, Eigen::VectorXd& vdot, const Eigen::VectorXd& w);
   SecondOrderSystem& sys_;
   AlphaParameters p_;

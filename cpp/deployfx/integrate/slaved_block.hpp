@@ -21,7 +21,7 @@ namespace deployfx::integrate {
 /// without a border: the block LDL^T of its symmetric part over the nodes' 3 x 3 blocks (the sparse
 /// LU where the skew part is not small), its solve not refined against that part: a sweep is a
 /// relaxation whose residual is evaluated after it, and a correction off by the skew part's
-/// radius (below 1e-3) relaxes as well (the paper's 15 x 10 scene: the same iterations, 4 % less
+/// radius (its estimate below 1e-3, the radius up to ten times that) relaxes as well (the paper's 15 x 10 scene: the same iterations, 4 % less
 /// CPU than refined to 1e-8; docs/performance-history.md, session 27).
 class SlavedBlock {
  public:

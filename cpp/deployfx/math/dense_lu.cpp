@@ -8,6 +8,12 @@ namespace deployfx {
 bool DenseLU::factorize() {
   const Eigen::Index n = lu_.rows();
   if (lu_.cols() != n) return false;
+  blocked_ = n > kUnblocked;
+  if (blocked_) {
+    blocked_lu_.compute(lu_);
+    const Eigen::MatrixXd& f = blocked_lu_.matrixLU();
+    return f.diagonal().cwiseAbs().minCoeff() > 1e-300 && f.allFinite();
+  }
   pivot_.resize(static_cast<std::size_t>(n));
   double* a = lu_.data();  // column-major, leading dimension n
   for (Eigen::Index k = 0; k < n; ++k) {
@@ -32,6 +38,10 @@ bool DenseLU::factorize() {
 }
 
 void DenseLU::solve_in_place(Eigen::Ref<Eigen::VectorXd> x) const {
+  if (blocked_) {
+    x = blocked_lu_.solve(Eigen::VectorXd(x));
+    return;
+  }
   for (std::size_t k = 0; k < pivot_.size(); ++k)
     if (pivot_[k] != static_cast<int>(k)) std::swap(x(static_cast<Eigen::Index>(k)), x(pivot_[k]));
   lu_.triangularView<Eigen::UnitLower>().solveInPlace(x);
