@@ -386,9 +386,12 @@ Eigen::VectorXd GeneralizedAlpha::relax_slaved(const AlphaState& s, double h, Ei
       // (SecondOrderSystem::refresh_elastic_blocks: the slaved rows and columns lie in them, and
       // their values are the whole matrix's), else a whole matrix.
       const double c_v = h * gamma * c, c_q = h * h * beta * c;
-      slaved_source_ = matrix_;
-      if (!(factor_h_ > 0 && sys_.refresh_elastic_blocks(slaved_source_, q1, v1, ve, t1, 1.0, c_v, c_q)))
-        slaved_source_ = sys_.iteration_matrix(q1, v1, ve, t1, 1.0, c_v, c_q);
+      bool refreshed = false;
+      if (factor_h_ > 0) {
+        slaved_source_ = matrix_;
+        refreshed = sys_.refresh_elastic_blocks(slaved_source_, q1, v1, ve, t1, 1.0, c_v, c_q);
+      }
+      if (!refreshed) slaved_source_ = sys_.iteration_matrix(q1, v1, ve, t1, 1.0, c_v, c_q);
       slaved_block_.set(slaved_source_, slaved_);
       slaved_h_ = h;
     }
