@@ -164,9 +164,7 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
       for (const int k : in_plane_) dofs.push_back(free_[k]);
       in_plane_rows_ = ffi_.select_rows(dofs);
       std::vector<Eigen::Triplet<double>> t;
-      for (std::size_t i = 0; i < in_plane_.size(); ++i)
-        for (RowMajorMatrix::InnerIterator it(M_rows_, in_plane_[i]); it; ++it)
-          t.emplace_back(static_cast<int>(i), it.col(), it.value());
+      append_rows(M_rows_, in_plane_, 0, t);
       M_in_plane_.resize(static_cast<Eigen::Index>(in_plane_.size()), M_rows_.cols());
       M_in_plane_.setFromTriplets(t.begin(), t.end());
     }

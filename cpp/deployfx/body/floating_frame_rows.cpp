@@ -19,18 +19,13 @@ FloatingFrameInertia::RowSelection FloatingFrameInertia::select_rows(const std::
   RowSelection out;
   out.dofs_ = dofs;
   // Rows of a column-major matrix: its row-major copy's (the same entries, columns ascending).
-  auto rows_of = [&](const SparseMatrix& A, Eigen::Index first, std::vector<Eigen::Triplet<double>>& t) {
-    const Eigen::SparseMatrix<double, Eigen::RowMajor> R = A;
-    for (Eigen::Index i = 0; i < m; ++i)
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, dofs[i]); it; ++it)
-        t.emplace_back(first + i, it.col(), it.value());
-  };
+  using RowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor>;
   std::vector<Eigen::Triplet<double>> t;
-  for (int k = 0; k < 9; ++k) rows_of(Mij_[k], k * m, t);
+  for (int k = 0; k < 9; ++k) append_rows(RowMajor(Mij_[k]), dofs, k * m, t);
   out.Mij_.resize(9 * m, n);
   out.Mij_.setFromTriplets(t.begin(), t.end());
   t.clear();
-  rows_of(M_, 0, t);
+  append_rows(RowMajor(M_), dofs, 0, t);
   out.M_.resize(m, n);
   out.M_.setFromTriplets(t.begin(), t.end());
   out.S1_.resize(3, m);

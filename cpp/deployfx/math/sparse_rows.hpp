@@ -9,6 +9,7 @@
 #include <Eigen/SparseCore>
 #include <array>
 #include <cmath>
+#include <vector>
 
 namespace deployfx {
 
@@ -37,6 +38,15 @@ void rows_product(const Eigen::SparseMatrix<double, Eigen::RowMajor>& A, const s
       for (int v = 0; v < V; ++v) sum[v] = fused(alpha * val[k], z[v][col[k]], sum[v]);
     for (int v = 0; v < V; ++v) y[v][r] = sum[v];
   }
+}
+
+/// The entries of A's rows `rows` (in that order) as triplets of rows first, first + 1, ...: a
+/// selection of rows to stack and build (setFromTriplets), e.g. a residual's rows formed alone.
+inline void append_rows(const Eigen::SparseMatrix<double, Eigen::RowMajor>& A, const std::vector<int>& rows,
+                        Eigen::Index first, std::vector<Eigen::Triplet<double>>& out) {
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(A, rows[i]); it; ++it)
+      out.emplace_back(static_cast<int>(first + static_cast<Eigen::Index>(i)), static_cast<int>(it.col()), it.value());
 }
 
 }  // namespace deployfx
