@@ -11,6 +11,7 @@ void define_material(py::module_& m);
 void define_fem(py::module_& m);
 void define_body(py::module_& m);
 void define_integrate(py::module_& m);
+void define_specs(py::module_& m);
 void define_multibody(py::module_& m);
 void define_contact(py::module_& m);
 void define_stress(py::module_& m);
@@ -56,6 +57,7 @@ PYBIND11_MODULE(_core, m) {
   define_fem(m);
   define_body(m);
   define_integrate(m);
+  define_specs(m);
   define_multibody(m);
   define_contact(m);
   define_stress(m);
