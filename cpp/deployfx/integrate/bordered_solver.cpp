@@ -171,6 +171,25 @@ Eigen::VectorXd BorderedSolver::solve_factorized(const Eigen::VectorXd& r) const
   return x;
 }
 
+void BorderedSolver::subtract_elastic_product(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                              Eigen::Ref<Eigen::VectorXd> y) const {
+  // E x = (Es + Ek) x = (Es - Ek)^T x: column c of Es - Ek (stored by columns) gathered against x
+  // gives (E x)_c. One pass over both value arrays, no scatter (two sparse products by columns,
+  // Es x and Ek x, scattered each term: 2.7 % of the nonlinear model's run).
+  const int* outer = E_sym_.outerIndexPtr();
+  const int* row = E_sym_.innerIndexPtr();
+  const double* sym = E_sym_.valuePtr();
+  const double* skew = E_skew_.valuePtr();
+  for (Eigen::Index c = 0; c < E_sym_.outerSize(); ++c) {
+    double sum[4] = {0, 0, 0, 0};  // four chains of sums (a mesh column holds 6 to 54 entries)
+    int k = outer[c];
+    for (; k + 4 <= outer[c + 1]; k += 4)
+      for (int l = 0; l < 4; ++l) sum[l] += (sym[k + l] - skew[k + l]) * x[row[k + l]];
+    for (; k < outer[c + 1]; ++k) sum[0] += (sym[k] - skew[k]) * x[row[k]];
+    y[c] -= (sum[0] + sum[1]) + (sum[2] + sum[3]);
+  }
+}
+
 Eigen::VectorXd BorderedSolver::solve(const Eigen::VectorXd& r, bool exact) const {
   Eigen::VectorXd x = solve_factorized(r);
   if (method_ != Method::kSymmetric || !exact) return x;
@@ -187,7 +206,8 @@ Eigen::VectorXd BorderedSolver::solve(const Eigen::VectorXd& r, bool exact) cons
     const auto xb = x.head(nb_);
     const auto xe = x.tail(ne_);
     res.head(nb_) = r.head(nb_) - A_ * xb - B_ * xe;
-    res.tail(ne_) = r.tail(ne_) - C_ * xb - E_sym_ * xe - E_skew_ * xe;
+    res.tail(ne_) = r.tail(ne_) - C_ * xb;
+    subtract_elastic_product(xe, res.tail(ne_));
     const Eigen::VectorXd dx = solve_factorized(res);
     x += dx;
     const double size = dx.lpNorm<Eigen::Infinity>();

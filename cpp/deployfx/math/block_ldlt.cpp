@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "deployfx/math/block_product.hpp"
+#include "deployfx/math/block_solve.hpp"
 
 namespace deployfx {
 
@@ -175,28 +176,25 @@ bool BlockLDLT::factorize_blocks() {
 template <int kBlock, class Rhs>
 void BlockLDLT::solve_in_place(Rhs& X) const {
   constexpr int kSize = kBlock * kBlock;
-  using Block = Eigen::Matrix<double, kBlock, kBlock>;
+  constexpr int W = Rhs::ColsAtCompileTime;  // 1, or 8 (row-major: a block row's kBlock x 8 contiguous)
+  static_assert(W == 1 || (W == 8 && Rhs::IsRowMajor), "a vector or rows of eight");
   const double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
-  using ConstMap = Eigen::Map<const Block>;
+  double* x = X.data();
   for (int j = 0; j < blocks_; ++j) {  // L y = b, by columns (unit diagonal)
-    const auto y_j = X.template middleRows<kBlock>(kBlock * j);
-    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) {
-      if constexpr (Rhs::ColsAtCompileTime == 1)  // a vector: the block kernel
-        block_product<kBlock, 1, false, true>(X.data() + kBlock * off_rows_[t], off + kSize * t, y_j.data());
-      else
-        X.template middleRows<kBlock>(kBlock * off_rows_[t]).noalias() -= ConstMap(off + kSize * t) * y_j;
-    }
+    const ColumnSubtract<kBlock, W> subtract(x + kBlock * W * j);
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) subtract(x + kBlock * W * off_rows_[t], off + kSize * t);
   }
+  using ConstMap = Eigen::Map<const Eigen::Matrix<double, kBlock, kBlock>>;
   for (int j = blocks_ - 1; j >= 0; --j) {  // L^T x = D^-1 y: row j of L^T is column j of L
     auto x_j = X.template middleRows<kBlock>(kBlock * j);
     const double* D_inv = values_.data() + kSize * (2 * j + 1);
-    if constexpr (Rhs::ColsAtCompileTime == 1)
+    if constexpr (W == 1)
       block_product<kBlock, 1, false, false>(x_j.data(), D_inv, x_j.data());
     else
       x_j = (ConstMap(D_inv) * x_j).eval();
-    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t)
-      x_j.noalias() -=
-          ConstMap(off + kSize * t).transpose() * X.template middleRows<kBlock>(kBlock * off_rows_[t]);
+    TransposedSum<kBlock, W> sum;
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) sum.add(off + kSize * t, x + kBlock * W * off_rows_[t]);
+    sum.subtract_from(x + kBlock * W * j);
   }
 }
 
