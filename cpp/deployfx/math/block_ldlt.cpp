@@ -65,7 +65,8 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
   const int largest = *std::max_element(group_size.begin(), group_size.end());
   const int block = 4 * ng <= n ? kMaxBlock : largest <= 3 && 2 * ng <= n ? 3 : 0;
   if (block == 0) return false;
-  const int kSize = block * block;  // values in a block
+  const int rows = block == 3 ? kBlockRows<3> : kBlockRows<kMaxBlock>;  // a block's stored rows
+  const int kSize = rows * block;  // values stored a block
   // The groups' graph (a group's first column holds its pattern) and its AMD ordering:
   // order[new] = old (the ordering's convention, as in CSparse's cs_amd), rank[old] = new.
   std::vector<Eigen::Triplet<double>> edges;
@@ -118,17 +119,17 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
     }
   // Where A's dofs and values go.
   dof_slot_.resize(n);
-  for (int d = 0; d < n; ++d) dof_slot_[d] = block * rank[group[d]] + local[d];
+  for (int d = 0; d < n; ++d) dof_slot_[d] = rows * rank[group[d]] + local[d];
   padding_.clear();
   for (int g = 0; g < ng; ++g)
     for (int l = group_size[g]; l < block; ++l)
-      padding_.push_back(kSize * 2 * rank[g] + l * (block + 1));
+      padding_.push_back(kSize * 2 * rank[g] + l * (rows + 1));
   value_target_.assign(static_cast<std::size_t>(A.nonZeros()), -1);
   for (int c = 0; c < n; ++c)
     for (int p = outer[c]; p < outer[c + 1]; ++p) {
       const int r = inner[p];
       const int I = rank[group[r]], J = rank[group[c]];
-      const long within = local[r] + block * local[c];  // column-major within the block
+      const long within = local[r] + rows * local[c];  // column-major within the block
       if (I == J) {
         value_target_[p] = static_cast<long>(kSize) * 2 * J + within;
       } else if (I > J) {
@@ -160,10 +161,11 @@ bool BlockLDLT::factorize(const SparseMatrix& A) {
 
 template <int kBlock>
 bool BlockLDLT::factorize_blocks() {
-  constexpr int kSize = kBlock * kBlock;
+  constexpr int R = kBlockRows<kBlock>, kSize = R * kBlock;  // stored rows, values a block
   using Block = Eigen::Matrix<double, kBlock, kBlock>;
+  using Stored = Eigen::Matrix<double, R, kBlock>;  // padding (rows kBlock .. R - 1) zero
+  using Map = Eigen::Map<Block, 0, Eigen::OuterStride<R>>;
   double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
-  using Map = Eigen::Map<Block>;
   for (int j = 0; j < blocks_; ++j) {
     for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) position_[off_rows_[t]] = t;
     Map D(values_.data() + kSize * 2 * j);
@@ -172,14 +174,15 @@ bool BlockLDLT::factorize_blocks() {
     for (int u = row_begin_[j]; u < row_begin_[j + 1]; ++u) {
       const int s = row_blocks_[u], k = off_column_[s];
       const double* L_jk = off + kSize * s;
-      Block Y;  // L_jk D_k
+      Stored Y;  // L_jk D_k
       block_product<kBlock, kBlock, false, false>(Y.data(), L_jk, values_.data() + kSize * 2 * k);
       block_product<kBlock, kBlock, true, true>(D.data(), Y.data(), L_jk);  // D -= Y L_jk^T
       for (int t = s + 1; t < off_begin_[k + 1]; ++t)  // L_ij -= L_ik Y^T
         block_product<kBlock, kBlock, true, true>(off + kSize * position_[off_rows_[t]], off + kSize * t, Y.data());
     }
-    D = (0.5 * (D + D.transpose())).eval();
-    const Eigen::LDLT<Block> ldlt(D);
+    const Block D_sym = 0.5 * (D + D.transpose());
+    D = D_sym;
+    const Eigen::LDLT<Block> ldlt(D_sym);
     if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().cwiseAbs().minCoeff() > 0)) return false;
     Map D_inv(values_.data() + kSize * (2 * j + 1));
     D_inv = pivot_inverse(ldlt);
@@ -194,26 +197,28 @@ bool BlockLDLT::factorize_blocks() {
 
 template <int kBlock, class Rhs>
 void BlockLDLT::solve_in_place(Rhs& X) const {
-  constexpr int kSize = kBlock * kBlock;
-  constexpr int W = Rhs::ColsAtCompileTime;  // 1, or 8 (row-major: a block row's kBlock x 8 contiguous)
+  constexpr int R = kBlockRows<kBlock>, kSize = R * kBlock;
+  constexpr int W = Rhs::ColsAtCompileTime;  // 1, or 8 (row-major: a block row's R x 8 contiguous)
   static_assert(W == 1 || (W == 8 && Rhs::IsRowMajor), "a vector or rows of eight");
+  constexpr int kPanel = R * W;  // values of X a block row
   const double* off = values_.data() + static_cast<std::size_t>(kSize) * 2 * blocks_;
   double* x = X.data();
   for (int j = 0; j < blocks_; ++j) {  // L y = b, by columns (unit diagonal)
-    const ColumnSubtract<kBlock, W> subtract(x + kBlock * W * j);
-    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) subtract(x + kBlock * W * off_rows_[t], off + kSize * t);
+    const ColumnSubtract<kBlock, W> subtract(x + kPanel * j);
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) subtract(x + kPanel * off_rows_[t], off + kSize * t);
   }
-  using ConstMap = Eigen::Map<const Eigen::Matrix<double, kBlock, kBlock>>;
   for (int j = blocks_ - 1; j >= 0; --j) {  // L^T x = D^-1 y: row j of L^T is column j of L
-    auto x_j = X.template middleRows<kBlock>(kBlock * j);
+    double* x_j = x + kPanel * j;
     const double* D_inv = values_.data() + kSize * (2 * j + 1);
-    if constexpr (W == 1)
-      block_product<kBlock, 1, false, false>(x_j.data(), D_inv, x_j.data());
-    else
-      x_j = (ConstMap(D_inv) * x_j).eval();
+    if constexpr (W == 1) {
+      block_product<kBlock, 1, false, false>(x_j, D_inv, x_j);
+    } else {
+      Eigen::Map<BlockPanel<kBlock, W>> panel(x_j);
+      panel = (Eigen::Map<const StoredBlock<kBlock>>(D_inv) * panel.template topRows<kBlock>()).eval();
+    }
     TransposedSum<kBlock, W> sum;
-    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) sum.add(off + kSize * t, x + kBlock * W * off_rows_[t]);
-    sum.subtract_from(x + kBlock * W * j);
+    for (int t = off_begin_[j]; t < off_begin_[j + 1]; ++t) sum.add(off + kSize * t, x + kPanel * off_rows_[t]);
+    sum.subtract_from(x_j);
   }
 }
 
@@ -226,7 +231,7 @@ void BlockLDLT::solve_padded(Rhs& X) const {
 }
 
 Eigen::VectorXd BlockLDLT::solve(const Eigen::VectorXd& b) const {
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block_) * blocks_);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(stored_rows()) * blocks_);
   for (int d = 0; d < n_; ++d) x(dof_slot_[d]) = b(d);
   solve_padded(x);
   Eigen::VectorXd out(n_);
@@ -236,11 +241,11 @@ Eigen::VectorXd BlockLDLT::solve(const Eigen::VectorXd& b) const {
 
 Eigen::MatrixXd BlockLDLT::solve(const Eigen::MatrixXd& B) const {
   // Up to kWidth columns at a time, as rows of kWidth contiguous values: each block update is one
-  // fixed-size (6 x 6) (6 x kWidth) (or 3 x 3, 3 x kWidth) product.
+  // fixed-size (6 x 6) (6 x kWidth) (or padded 3 x 3, 4 x kWidth) product.
   constexpr int kWidth = 8;
   Eigen::MatrixXd out(n_, B.cols());
   using Rows = Eigen::Matrix<double, Eigen::Dynamic, kWidth, Eigen::RowMajor>;
-  Rows X(static_cast<Eigen::Index>(block_) * blocks_, kWidth);
+  Rows X(static_cast<Eigen::Index>(stored_rows()) * blocks_, kWidth);
   for (Eigen::Index c0 = 0; c0 < B.cols(); c0 += kWidth) {
     const Eigen::Index w = std::min<Eigen::Index>(kWidth, B.cols() - c0);
     X.setZero();

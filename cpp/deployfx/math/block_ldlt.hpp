@@ -55,13 +55,17 @@ class BlockLDLT {
   template <class Rhs>
   void solve_padded(Rhs& X) const;  // solve_in_place for the analysed block size
 
+  int stored_rows() const { return block_ == 3 ? 4 : block_; }  // kBlockRows (math/block_product.hpp)
+
   int n_ = 0;       // scalar rows of A
   int block_ = 0;   // dofs per block: 6 or 3
   int blocks_ = 0;  // block rows and columns of the factor
-  // Where dof d of A lives in the padded, permuted vector: block_ * (its block) + its place in it.
+  // Where dof d of A lives in the padded, permuted vector: stored_rows() * (its block) + its place
+  // in it.
   std::vector<int> dof_slot_;
   std::vector<int> padding_;  // padded diagonal entries (indices into values_), set to 1
-  // The factor, column by column (s = block_^2 values a block): the pivot blocks D_j at
+  // The factor, column by column (s = stored_rows() block_ values a block, column-major, the rows
+  // past block_ zero): the pivot blocks D_j at
   // values_[s 2 j] and their inverses next, at values_[s (2 j + 1)]; then the blocks L_ij of
   // column j for the block rows i in off_rows_[off_begin_[j] .. off_begin_[j + 1]) (ascending),
   // block t at values_[s (2 blocks_ + t)].
