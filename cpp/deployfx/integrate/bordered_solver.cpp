@@ -74,7 +74,7 @@ bool BorderedSolver::factorize_symmetric(const SparseMatrix& E) {
   // 3e-2), hence the tolerance's margin; the refinement in solve() converges for any radius < 1.
   const Eigen::VectorXd y = solve_symmetric(Eigen::VectorXd::Ones(ne_));
   Eigen::VectorXd x = y;
-  for (int k = 0; k < 2; ++k) x = solve_symmetric(E_skew_ * x);
+  for (int k = 0; k < 2; ++k) x = solve_symmetric(skew_product(x));
   const double rate = std::sqrt(x.norm() / y.norm());
   if (!(rate <= skew_tolerance_)) return false;
   Z_ = solve_symmetric_block(C_);
@@ -171,23 +171,42 @@ Eigen::VectorXd BorderedSolver::solve_factorized(const Eigen::VectorXd& r) const
   return x;
 }
 
+namespace {
+
+// Column c of a matrix stored by columns, gathered against x with four chains of sums (a mesh
+// column holds 6 to 54 entries): (P^T x)_c for P's values `value` on `pattern`.
+template <class Value>
+double gathered(const Eigen::SparseMatrix<double>& pattern, Eigen::Index c, const Value& value,
+                       const Eigen::Ref<const Eigen::VectorXd>& x) {
+  const int* outer = pattern.outerIndexPtr();
+  const int* row = pattern.innerIndexPtr();
+  double sum[4] = {0, 0, 0, 0};
+  int k = outer[c];
+  for (; k + 4 <= outer[c + 1]; k += 4)
+    for (int l = 0; l < 4; ++l) sum[l] += value(k + l) * x[row[k + l]];
+  for (; k < outer[c + 1]; ++k) sum[0] += value(k) * x[row[k]];
+  return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+}
+
+}  // namespace
+
+Eigen::VectorXd BorderedSolver::skew_product(const Eigen::VectorXd& x) const {
+  // Ek x = -Ek^T x: gathered by columns (no scatter).
+  const double* skew = E_skew_.valuePtr();
+  Eigen::VectorXd y(E_skew_.cols());
+  for (Eigen::Index c = 0; c < E_skew_.outerSize(); ++c) y[c] = -gathered(E_skew_, c, [&](int k) { return skew[k]; }, x);
+  return y;
+}
+
 void BorderedSolver::subtract_elastic_product(const Eigen::Ref<const Eigen::VectorXd>& x,
                                               Eigen::Ref<Eigen::VectorXd> y) const {
   // E x = (Es + Ek) x = (Es - Ek)^T x: column c of Es - Ek (stored by columns) gathered against x
   // gives (E x)_c. One pass over both value arrays, no scatter (two sparse products by columns,
   // Es x and Ek x, scattered each term: 2.7 % of the nonlinear model's run).
-  const int* outer = E_sym_.outerIndexPtr();
-  const int* row = E_sym_.innerIndexPtr();
   const double* sym = E_sym_.valuePtr();
   const double* skew = E_skew_.valuePtr();
-  for (Eigen::Index c = 0; c < E_sym_.outerSize(); ++c) {
-    double sum[4] = {0, 0, 0, 0};  // four chains of sums (a mesh column holds 6 to 54 entries)
-    int k = outer[c];
-    for (; k + 4 <= outer[c + 1]; k += 4)
-      for (int l = 0; l < 4; ++l) sum[l] += (sym[k + l] - skew[k + l]) * x[row[k + l]];
-    for (; k < outer[c + 1]; ++k) sum[0] += (sym[k] - skew[k]) * x[row[k]];
-    y[c] -= (sum[0] + sum[1]) + (sum[2] + sum[3]);
-  }
+  for (Eigen::Index c = 0; c < E_sym_.outerSize(); ++c)
+    y[c] -= gathered(E_sym_, c, [&](int k) { return sym[k] - skew[k]; }, x);
 }
 
 Eigen::VectorXd BorderedSolver::solve(const Eigen::VectorXd& r, bool exact) const {

@@ -66,6 +66,7 @@ class BorderedSolver {
   Eigen::MatrixXd solve_symmetric_block(const Eigen::MatrixXd& B) const;  // Es^-1 B, all columns at once
   Eigen::VectorXd solve_factorized(const Eigen::VectorXd& r) const;  // with Es for E if kSymmetric
   Eigen::VectorXd solve_elastic(const Eigen::VectorXd& r) const;     // E^-1 r (Es^-1 r if kSymmetric), sparse E
+  Eigen::VectorXd skew_product(const Eigen::VectorXd& x) const;  // E_skew_ x
   // y -= E x for kSymmetric's E = E_sym_ + E_skew_ (the refinement's residual)
   void subtract_elastic_product(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> y) const;
 
