@@ -55,12 +55,28 @@ def test_component_masses_add_up_to_the_element_mass(setup):
             np.testing.assert_allclose(ffi.Mij(i, j).toarray(), ffi.Mij(j, i).toarray().T, atol=1e-16)
 
 
-def test_products_read_each_pair_of_mass_blocks_once(setup):
-    # products() forms M_ji z as (M_ij^T) z in the pass over M_ij (M_ji = M_ij^T, checked above):
-    # each of the nine must equal the sparse product with its own block to round-off (1e-14 of
-    # |M_ij| |z|, the summation order differing).
-    _, plate, ffi = setup
-    z = np.random.default_rng(3).normal(size=plate.model.num_dofs)
+def tilted_plate_inertia(lam):
+    """The fixture's plate turned 30 degrees about x (off the x-y plane): its products take the
+    nine sparse M_ij (the node-graph split needs a mid-surface in the x-y plane)."""
+    plate = dfx.Plate(A, B, lam, NX, NY)
+    c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
+    R = np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    model = dfx.ShellModel(plate.model.nodes @ R.T, plate.model.quads, lam)
+    return model, model.floating_frame_inertia()
+
+
+@pytest.mark.parametrize("mesh", ["flat", "tilted"])
+def test_products_equal_each_mass_blocks_product(setup, mesh):
+    # products() forms the nine M_ij z without the nine sparse products: on a mesh in the x-y plane
+    # from three scalar matrices on the node graph (body/floating_frame_nodes.cpp), otherwise with
+    # M_ji z as (M_ij^T) z in the pass over M_ij (M_ji = M_ij^T, checked above). Each must equal
+    # the sparse product with its own block to round-off (1e-14 of |M_ij| |z|, the summation order
+    # differing), the blocks' zeros included.
+    lam, plate, ffi = setup
+    model = plate.model
+    if mesh == "tilted":
+        model, ffi = tilted_plate_inertia(lam)
+    z = np.random.default_rng(3).normal(size=model.num_dofs)
     P = ffi.products(z)
     assert len(P) == 9
     for i in range(3):

@@ -96,6 +96,7 @@ FloatingFrameInertia::FloatingFrameInertia(const fem::ShellModel& model) : M_(mo
     Mij_[k].setFromTriplets(t[k].begin(), t[k].end());
   }
   for (int i = 0; i < 3; ++i) Mii_rows_[i] = Mij_[4 * i];
+  node_mass_ = node_mass(model);
 }
 
 FloatingFrameInertia FloatingFrameInertia::projected(const Eigen::MatrixXd& Phi) const {
@@ -199,6 +200,7 @@ void FloatingFrameInertia::compute_products(const std::array<const Eigen::Vector
     for (int v = 0; v < V; ++v) out[v]->noalias() = Mij_stacked_ * *z[v];
     return;
   }
+  if (!node_mass_.empty()) return node_products<V>(z, out);
   // With M_ji = M_ij^T, the M_ij with i <= j give all nine: one pass over M_ij (column-major)
   // gives both y = M_ij z (scattered by row) and y' = M_ji z (gathered by column), and M_ii z is
   // gathered by rows (math/sparse_rows.hpp: 8 % of inertial_forces() on the paper's 15 x 10
