@@ -76,6 +76,37 @@ def test_internal_force_is_gradient_of_energy_and_tangent_is_its_jacobian():
     assert np.abs(K - model.stiffness_matrix().toarray()).max() > 1e-4 * np.abs(K).max()
 
 
+@pytest.mark.parametrize("tilted", [False, True], ids=["flat", "tilted"])
+def test_force_alone_is_the_elements_force(tilted):
+    # The residual's force alone: on a mesh in world axes four elements at a time, lane by lane
+    # (fem/shell_force_batch.hpp; 6 elements: a full batch and one with two unused lanes), else
+    # element by element. Against the energy's central differences (as above, 1e-5) and the
+    # element's own force (internal_force's, formed with the tangent) to round-off (1e-13 relative:
+    # the same terms summed in another order); its in-plane rows (u, v, theta_z) alone the same,
+    # every other row zero.
+    model = distorted_model(unsymmetric_laminate(), seed=1)
+    if tilted:  # turned 30 degrees about x: no element in world axes
+        c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
+        model = dfx.ShellModel(model.nodes @ np.array([[1, 0, 0], [0, c, -s], [0, s, c]]).T, model.quads,
+                               unsymmetric_laminate())
+    assert model._impl.batched_force == (not tilted)
+    rng = np.random.default_rng(2)
+    n = model.num_dofs
+    u = rng.normal(size=n) * 2e-3
+    f = model._impl.force(u)
+    step = 1e-7 * 2e-3
+    f_fd = np.array([(model.strain_energy(u + step * e) - model.strain_energy(u - step * e)) / (2 * step)
+                     for e in np.eye(n)])
+    np.testing.assert_allclose(f, f_fd, atol=1e-5 * np.abs(f).max())
+    f_element, _ = model.internal_force(u)
+    np.testing.assert_allclose(f, f_element, rtol=0, atol=1e-13 * np.abs(f).max())
+    in_plane = np.sort(np.concatenate([np.arange(k, n, 6) for k in (0, 1, 5)]))
+    rows = model._impl.force(u, True)
+    if not tilted:  # a tilted element's in-plane rows are its whole force (ShellElement::in_plane_force)
+        np.testing.assert_array_equal(rows[in_plane], f[in_plane])
+        np.testing.assert_array_equal(np.delete(rows, in_plane), 0.0)
+
+
 def test_geometric_stiffness_of_a_uniform_stretch():
     # K_s (Eq. 22) from given resultants and from the resultants of a displacement agree, and
     # equal the transverse block of the tangent's change under an in-plane stretch.

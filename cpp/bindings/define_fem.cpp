@@ -57,7 +57,18 @@ void define_fem(py::module_& m) {
           s.internal_force(u, &f, &K);
         }
         return py::make_tuple(f, K);
-      }, py::arg("u"));
+      }, py::arg("u"))
+      .def_property_readonly("batched_force", &ShellModel::batched_force)
+      .def("force",
+           [](const ShellModel& s, const Eigen::VectorXd& u, bool in_plane_rows) {
+             Eigen::VectorXd f;
+             if (in_plane_rows) s.in_plane_force(u, &f);
+             else s.internal_force(u, &f, nullptr);
+             return f;
+           },
+           py::arg("u"), py::arg("in_plane_rows") = false, py::call_guard<py::gil_scoped_release>(),
+           "The internal force alone (the engine's residual's; on a mesh in world axes four elements at a "
+           "time, fem/shell_force_batch.hpp), or with in_plane_rows its in-plane rows (u, v, theta_z).");
 
   py::class_<ModalForce>(m, "ModalInternalForce",
                          "The shell model's internal force in a Ritz basis d = Phi eta, as an exact polynomial, "

@@ -113,6 +113,23 @@ class ShellElement {
   StrainOperators strain_operators(double xi, double eta) const;
   /// The bilinear map of the natural coordinates to the mid-surface, world axes (m).
   Eigen::Vector3d position(double xi, double eta) const;
+  /// What the force of internal_force() reads at Gauss point q besides the section constants
+  /// (fem/shell_force_batch.hpp): the shape functions N_a, their gradients in E's axes, the MITC4
+  /// shear operator on (w, theta_x, theta_y) of the four nodes (column 4 k + node) and the area
+  /// weight (m^2).
+  struct ForceOperators {
+    Eigen::Vector4d N, dNx, dNy;
+    Eigen::Matrix<double, 2, 12> Bs_wr;
+    double weight;
+  };
+  ForceOperators force_operators(int q) const {
+    const GaussPoint& p = gp_.at(q);
+    return {p.N, p.dNx, p.dNy, p.Bs_wr, p.weight};
+  }
+  /// Whether the element's axes are exactly the world's (its dofs then need no rotation).
+  bool world_axes() const { return world_axes_; }
+  /// The drilling penalty's modulus kDrillingPenalty A66, N/m.
+  double drill_modulus() const { return drill_modulus_; }
   /// The section constants the element was built with (laminate A, B, D, As).
   const Eigen::Matrix3d& A() const { return A_; }
   const Eigen::Matrix3d& B() const { return B_; }

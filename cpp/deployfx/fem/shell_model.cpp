@@ -38,6 +38,7 @@ ShellModel::ShellModel(NodeMatrix nodes, QuadMatrix quads, const material::Lamin
       throw std::invalid_argument("ShellModel.nodes[" + std::to_string(n) +
                                   "] belongs to no element (its dofs would be singular)");
   build_pattern();
+  batch_ = ShellForceBatch(elements_, quads_);
   K_ = assemble([](const ShellElement& el, int) { return el.stiffness(); });
   M_ = assemble([](const ShellElement& el, int) { return el.mass(); });
 }
@@ -141,6 +142,7 @@ void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, Sp
   }
   if (energy) *energy = 0;
   if (!f && !energy) return;
+  if (!energy && !batch_.empty()) return batch_.add_force(u, *f, false);
   for (int e = 0; e < num_elements(); ++e) {
     ElemVec fe;
     double Ue = 0;
@@ -153,6 +155,7 @@ void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, Sp
 void ShellModel::in_plane_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const {
   check_size(u, "u");
   f->setZero(num_dofs());
+  if (!batch_.empty()) return batch_.add_force(u, *f, true);
   for (int e = 0; e < num_elements(); ++e) {
     ElemVec fe;
     elements_[e].in_plane_force(gather(u, e), &fe);
