@@ -77,13 +77,13 @@ def test_internal_force_is_gradient_of_energy_and_tangent_is_its_jacobian():
 
 
 @pytest.mark.parametrize("tilted", [False, True], ids=["flat", "tilted"])
-def test_force_alone_is_the_elements_force(tilted):
-    # The residual's force alone: on a mesh in world axes four elements at a time, lane by lane
-    # (fem/shell_force_batch.hpp; 6 elements: a full batch and one with two unused lanes), else
-    # element by element. Against the energy's central differences (as above, 1e-5) and the
-    # element's own force (internal_force's, formed with the tangent) to round-off (1e-13 relative:
-    # the same terms summed in another order); its in-plane rows (u, v, theta_z) alone the same,
-    # every other row zero.
+def test_force_and_tangent_alone_are_the_elements(tilted):
+    # The residual's force alone and the Newton matrix's tangent alone: on a mesh in world axes
+    # four elements at a time, lane by lane (fem/shell_batch.hpp; 6 elements: a full batch and one
+    # with two unused lanes), else element by element. Against the energy's and the force's
+    # central differences (as above, 1e-5) and the element's own force and tangent
+    # (internal_force's, formed together) to round-off (1e-13 relative: the same terms summed in
+    # another order); the force's in-plane rows (u, v, theta_z) alone the same, every other row zero.
     model = distorted_model(unsymmetric_laminate(), seed=1)
     if tilted:  # turned 30 degrees about x: no element in world axes
         c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
@@ -98,8 +98,13 @@ def test_force_alone_is_the_elements_force(tilted):
     f_fd = np.array([(model.strain_energy(u + step * e) - model.strain_energy(u - step * e)) / (2 * step)
                      for e in np.eye(n)])
     np.testing.assert_allclose(f, f_fd, atol=1e-5 * np.abs(f).max())
-    f_element, _ = model.internal_force(u)
+    f_element, K_element = model.internal_force(u)
     np.testing.assert_allclose(f, f_element, rtol=0, atol=1e-13 * np.abs(f).max())
+    K = model._impl.tangent(u).toarray()
+    np.testing.assert_allclose(K, K_element.toarray(), rtol=0, atol=1e-13 * np.abs(K).max())
+    K_fd = np.column_stack([(model._impl.force(u + step * e) - model._impl.force(u - step * e)) / (2 * step)
+                            for e in np.eye(n)])
+    np.testing.assert_allclose(K, K_fd, atol=1e-5 * np.abs(K).max())
     in_plane = np.sort(np.concatenate([np.arange(k, n, 6) for k in (0, 1, 5)]))
     rows = model._impl.force(u, True)
     if not tilted:  # a tilted element's in-plane rows are its whole force (ShellElement::in_plane_force)

@@ -59,6 +59,15 @@ void define_fem(py::module_& m) {
         return py::make_tuple(f, K);
       }, py::arg("u"))
       .def_property_readonly("batched_force", &ShellModel::batched_force)
+      .def("tangent",
+           [](const ShellModel& s, const Eigen::VectorXd& u) {
+             SparseMatrix K;
+             s.internal_force(u, nullptr, &K);
+             return K;
+           },
+           py::arg("u"), py::call_guard<py::gil_scoped_release>(),
+           "The tangent alone (the engine's Newton matrix's; on a mesh in world axes four elements at a "
+           "time, fem/shell_batch.hpp).")
       .def("force",
            [](const ShellModel& s, const Eigen::VectorXd& u, bool in_plane_rows) {
              Eigen::VectorXd f;
@@ -68,7 +77,7 @@ void define_fem(py::module_& m) {
            },
            py::arg("u"), py::arg("in_plane_rows") = false, py::call_guard<py::gil_scoped_release>(),
            "The internal force alone (the engine's residual's; on a mesh in world axes four elements at a "
-           "time, fem/shell_force_batch.hpp), or with in_plane_rows its in-plane rows (u, v, theta_z).");
+           "time, fem/shell_batch.hpp), or with in_plane_rows its in-plane rows (u, v, theta_z).");
 
   py::class_<ModalForce>(m, "ModalInternalForce",
                          "The shell model's internal force in a Ritz basis d = Phi eta, as an exact polynomial, "

@@ -377,6 +377,17 @@ void ShellElement::internal_force(const ElemVec& d_W, ElemVec* f_W, ElemMat* K_W
   *K_W = to_world(K);
 }
 
+const std::array<int, kElementDofs * kElementDofs>& ShellElement::type_major_index() {
+  static const std::array<int, kElementDofs * kElementDofs> index = [] {
+    std::array<int, kElementDofs * kElementDofs> out{};
+    for (int r = 0; r < kElementDofs; ++r)
+      for (int c = 0; c < kElementDofs; ++c)
+        out[kElementDofs * c + r] = kElementDofs * (4 * (c % kNodeDofs) + c / kNodeDofs) + 4 * (r % kNodeDofs) + r / kNodeDofs;
+    return out;
+  }();
+  return index;
+}
+
 bool ShellElement::tangent_type_major(const ElemVec& d_W, ElemMat* K_t) const {
   if (!world_axes_) return false;
   evaluate(d_W, nullptr, K_t, nullptr);

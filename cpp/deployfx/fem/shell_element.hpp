@@ -79,6 +79,9 @@ class ShellElement {
   /// type t (u, v, w, theta_x, theta_y, theta_z) of node a: assembly without reordering it. False
   /// (K_t untouched) for any other element.
   bool tangent_type_major(const ElemVec& d_W, ElemMat* K_t) const;
+  /// Entry k of the node-major tangent (column-major, the order internal_force() gives) is entry
+  /// type_major_index()[k] of tangent_type_major()'s.
+  static const std::array<int, kElementDofs * kElementDofs>& type_major_index();
   /// internal_force()'s force at the in-plane dofs (u, v, theta_z of each node) alone, the other
   /// rows zero, for an element whose axes are the world's (a mesh in the x-y plane: the membrane
   /// and drilling terms, without the bending and shear resultants' rows); any other element's
@@ -114,7 +117,7 @@ class ShellElement {
   /// The bilinear map of the natural coordinates to the mid-surface, world axes (m).
   Eigen::Vector3d position(double xi, double eta) const;
   /// What the force of internal_force() reads at Gauss point q besides the section constants
-  /// (fem/shell_force_batch.hpp): the shape functions N_a, their gradients in E's axes, the MITC4
+  /// (fem/shell_batch.hpp): the shape functions N_a, their gradients in E's axes, the MITC4
   /// shear operator on (w, theta_x, theta_y) of the four nodes (column 4 k + node) and the area
   /// weight (m^2).
   struct ForceOperators {
@@ -126,6 +129,23 @@ class ShellElement {
     const GaussPoint& p = gp_.at(q);
     return {p.N, p.dNx, p.dNy, p.Bs_wr, p.weight};
   }
+  /// What the tangent of tangent_type_major() reads at Gauss point q besides force_operators():
+  /// w A, w B Bb (the curvature operator on (theta_x, theta_y) of the nodes) and w As Bs_wr.
+  struct TangentOperators {
+    Eigen::Matrix3d wA;
+    Eigen::Matrix<double, 3, 8> wBBb;
+    Eigen::Matrix<double, 2, 12> wAsBs;
+  };
+  TangentOperators tangent_operators(int q) const {
+    const GaussPoint& p = gp_.at(q);
+    return {p.wA, p.wBBb, p.wAsBs};
+  }
+  /// The tangent's blocks that no displacement enters (type-major): bending and shear on
+  /// (theta_x, theta_y) (rows and columns 12-19), and the drilling penalty's on (u, v, theta_z), a
+  /// 12 x 12 whose corners (u, v) x theta_z, theta_z x (u, v) and theta_z x theta_z are the
+  /// tangent's (rows and columns 0-7 and 20-23; the rest unused).
+  const Eigen::Matrix<double, 8, 8>& rotation_tangent() const { return K_rot_; }
+  const Eigen::Matrix<double, 12, 12>& drilling_tangent() const { return Kd_; }
   /// Whether the element's axes are exactly the world's (its dofs then need no rotation).
   bool world_axes() const { return world_axes_; }
   /// The drilling penalty's modulus kDrillingPenalty A66, N/m.

@@ -38,7 +38,7 @@ ShellModel::ShellModel(NodeMatrix nodes, QuadMatrix quads, const material::Lamin
       throw std::invalid_argument("ShellModel.nodes[" + std::to_string(n) +
                                   "] belongs to no element (its dofs would be singular)");
   build_pattern();
-  batch_ = ShellForceBatch(elements_, quads_);
+  batch_ = ShellBatch(elements_, quads_);
   K_ = assemble([](const ShellElement& el, int) { return el.stiffness(); });
   M_ = assemble([](const ShellElement& el, int) { return el.mass(); });
 }
@@ -170,16 +170,11 @@ void ShellModel::add_tangent(const Eigen::VectorXd& u, const std::vector<int>& s
   if (slots.size() != slots_.size())
     throw std::invalid_argument("add_tangent: slots must have 576 entries per element (" +
                                 std::to_string(slots_.size()) + "), got " + std::to_string(slots.size()));
+  if (!f && !batch_.empty()) return batch_.add_tangent(u, slots, coef, values);
   // Entry k of the node-major element tangent the slots are given for is entry type_major[k] of
   // the type-major one (ShellElement::tangent_type_major), read in the slots' order: a node's six
   // rows are adjacent in the values.
-  static const std::array<int, kEntries> type_major = [] {
-    std::array<int, kEntries> out{};
-    for (int r = 0; r < kElementDofs; ++r)
-      for (int c = 0; c < kElementDofs; ++c)
-        out[kElementDofs * c + r] = kElementDofs * (4 * (c % kNodeDofs) + c / kNodeDofs) + 4 * (r % kNodeDofs) + r / kNodeDofs;
-    return out;
-  }();
+  const std::array<int, kEntries>& type_major = ShellElement::type_major_index();
   for (int e = 0; e < num_elements(); ++e) {
     ElemVec fe;
     ElemMat Ke;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "deployfx/fem/shell_element.hpp"
-#include "deployfx/fem/shell_force_batch.hpp"
+#include "deployfx/fem/shell_batch.hpp"
 #include "deployfx/material/laminate.hpp"
 
 namespace deployfx::fem {
@@ -29,7 +29,7 @@ class ShellModel {
   const QuadMatrix& quads() const { return quads_; }
   const std::vector<ShellElement>& elements() const { return elements_; }
   /// Whether internal_force()'s force alone and in_plane_force() run four elements at a time
-  /// (fem/shell_force_batch.hpp: every element in world axes).
+  /// (fem/shell_batch.hpp: every element in world axes).
   bool batched_force() const { return !batch_.empty(); }
 
   const SparseMatrix& stiffness() const { return K_; }  ///< K_L, N/m and N m/rad
@@ -77,7 +77,7 @@ class ShellModel {
   NodeMatrix nodes_;
   QuadMatrix quads_;
   std::vector<ShellElement> elements_;
-  ShellForceBatch batch_;  // the force four elements at a time (a mesh in world axes), else empty
+  ShellBatch batch_;  // the force four elements at a time (a mesh in world axes), else empty
   SparseMatrix pattern_;               // compressed, zero values
   std::vector<int> slots_;             // (elements x 576): element entry -> pattern_ value index
   SparseMatrix K_, M_;

@@ -1,0 +1,210 @@
+#include "deployfx/fem/shell_batch.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace deployfx::fem {
+
+namespace {
+constexpr int U = 0, V = 1, W = 2, TX = 3, TY = 4, TZ = 5;  // a node's dof types
+}  // namespace
+
+ShellBatch::ShellBatch(const std::vector<ShellElement>& elements,
+                                 const Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>& quads) {
+  for (const ShellElement& el : elements)
+    if (!el.world_axes()) return;
+  const int n = static_cast<int>(elements.size());
+  for (int first = 0; first < n; first += kLanes) {
+    Batch b;
+    b.first = first;
+    b.lanes = std::min(kLanes, n - first);
+    for (int l = 0; l < kLanes; ++l) {
+      const int e = first + std::min(l, b.lanes - 1);  // an unused lane repeats the last element
+      const ShellElement& el = elements[e];
+      for (int a = 0; a < 4; ++a) b.nodes[a][l] = quads(e, a);
+      for (int q = 0; q < 4; ++q) {
+        const ShellElement::ForceOperators o = el.force_operators(q);
+        GaussPoint& g = b.gp[q];
+        for (int a = 0; a < 4; ++a) g.N[a][l] = o.N(a), g.dNx[a][l] = o.dNx(a), g.dNy[a][l] = o.dNy(a);
+        for (int r = 0; r < 2; ++r)
+          for (int k = 0; k < 12; ++k) g.Bs[r][k][l] = o.Bs_wr(r, k);
+        g.weight[l] = l < b.lanes ? o.weight : 0.0;  // an unused lane adds nothing
+        const ShellElement::TangentOperators t = el.tangent_operators(q);
+        for (int i = 0; i < 3; ++i) {
+          for (int j = 0; j < 3; ++j) g.wA[i][j][l] = t.wA(i, j);
+          for (int j = 0; j < 8; ++j) g.wBBb[i][j][l] = t.wBBb(i, j);
+        }
+        for (int i = 0; i < 2; ++i)
+          for (int j = 0; j < 12; ++j) g.wAsBs[i][j][l] = t.wAsBs(i, j);
+      }
+      for (int c = 0; c < 8; ++c)
+        for (int r = 0; r < 8; ++r) b.K_rot[c][r][l] = el.rotation_tangent()(r, c);
+      for (int c = 0; c < 12; ++c)
+        for (int r = 0; r < 12; ++r) b.Kd[c][r][l] = el.drilling_tangent()(r, c);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) b.A[i][j][l] = el.A()(i, j), b.B[i][j][l] = el.B()(i, j), b.D[i][j][l] = el.D()(i, j);
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) b.As[i][j][l] = el.As()(i, j);
+      b.drill[l] = el.drill_modulus();
+    }
+    batches_.push_back(b);
+  }
+}
+
+void ShellBatch::add_force(const Eigen::VectorXd& u, Eigen::VectorXd& f, bool in_plane_rows) const {
+  for (const Batch& b : batches_) {
+    if (in_plane_rows) add_batch<true>(b, u, f);
+    else add_batch<false>(b, u, f);
+  }
+}
+
+void ShellBatch::gather(const Batch& b, const Eigen::VectorXd& u, Lane (&X)[6][4]) const {
+  for (int a = 0; a < 4; ++a)
+    for (int l = 0; l < kLanes; ++l) {
+      const double* x = u.data() + kNodeDofs * b.nodes[a][l];
+      for (int t = 0; t < 6; ++t) X[t][a][l] = x[t];
+    }
+}
+
+namespace {
+ShellBatch::Lane dot(const ShellBatch::Lane* x, const ShellBatch::Lane* y) {
+  return x[0] * y[0] + x[1] * y[1] + x[2] * y[2] + x[3] * y[3];
+}
+}  // namespace
+
+template <bool kInPlane>
+void ShellBatch::add_batch(const Batch& b, const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
+  // ShellElement::evaluate's force, lane by lane (its comments give the equations).
+  Lane X[6][4];  // dof type t of node a
+  gather(b, u, X);
+  Lane F[6][4];
+  for (int t = 0; t < 6; ++t)
+    for (int a = 0; a < 4; ++a) F[t][a].setZero();
+  for (const GaussPoint& g : b.gp) {
+    Lane px[3], py[3];  // Psi (Eq. 20)
+    for (int t = 0; t < 3; ++t) px[t] = dot(X[t], g.dNx), py[t] = dot(X[t], g.dNy);
+    const Lane eps[3] = {px[0] + 0.5 * (px[0] * px[0] + px[1] * px[1] + px[2] * px[2]),
+                         py[1] + 0.5 * (py[0] * py[0] + py[1] * py[1] + py[2] * py[2]),
+                         py[0] + px[1] + (px[0] * py[0] + px[1] * py[1] + px[2] * py[2])};  // Eq. 14
+    const Lane ty_x = dot(X[TY], g.dNx), ty_y = dot(X[TY], g.dNy);
+    const Lane tx_x = dot(X[TX], g.dNx), tx_y = dot(X[TX], g.dNy);
+    const Lane kap[3] = {ty_x, -tx_y, ty_y - tx_x};
+    Lane N[3];
+    for (int i = 0; i < 3; ++i)
+      N[i] = b.A[i][0] * eps[0] + b.A[i][1] * eps[1] + b.A[i][2] * eps[2] + b.B[i][0] * kap[0] + b.B[i][1] * kap[1] +
+             b.B[i][2] * kap[2];
+    const Lane& w = g.weight;
+    const Lane drill = w * b.drill * (dot(X[TZ], g.N) - 0.5 * (dot(X[V], g.dNx) - dot(X[U], g.dNy)));
+    const Lane gx[3] = {px[0] + 1.0, px[1], px[2]}, gy[3] = {py[0], py[1] + 1.0, py[2]};
+    for (int t = 0; t < (kInPlane ? 2 : 3); ++t) {
+      const Lane nx = w * (N[0] * gx[t] + N[2] * gy[t]), ny = w * (N[1] * gy[t] + N[2] * gx[t]);
+      for (int a = 0; a < 4; ++a) F[t][a] += nx * g.dNx[a] + ny * g.dNy[a];
+    }
+    for (int a = 0; a < 4; ++a) {
+      F[TZ][a] += drill * g.N[a];
+      F[U][a] += 0.5 * drill * g.dNy[a];
+      F[V][a] -= 0.5 * drill * g.dNx[a];
+    }
+    if constexpr (kInPlane) continue;
+    Lane M[3];
+    for (int i = 0; i < 3; ++i)
+      M[i] = b.B[i][0] * eps[0] + b.B[i][1] * eps[1] + b.B[i][2] * eps[2] + b.D[i][0] * kap[0] + b.D[i][1] * kap[1] +
+             b.D[i][2] * kap[2];
+    Lane gam[2];  // the MITC4 shear strains, from (w, theta_x, theta_y) of the nodes
+    for (int r = 0; r < 2; ++r) gam[r] = dot(g.Bs[r], X[W]) + dot(g.Bs[r] + 4, X[TX]) + dot(g.Bs[r] + 8, X[TY]);
+    const Lane wQ0 = w * (b.As[0][0] * gam[0] + b.As[0][1] * gam[1]), wQ1 = w * (b.As[1][0] * gam[0] + b.As[1][1] * gam[1]);
+    for (int a = 0; a < 4; ++a) {
+      F[W][a] += g.Bs[0][a] * wQ0 + g.Bs[1][a] * wQ1;
+      F[TX][a] += g.Bs[0][4 + a] * wQ0 + g.Bs[1][4 + a] * wQ1 - w * (M[1] * g.dNy[a] + M[2] * g.dNx[a]);
+      F[TY][a] += g.Bs[0][8 + a] * wQ0 + g.Bs[1][8 + a] * wQ1 + w * (M[0] * g.dNx[a] + M[2] * g.dNy[a]);
+    }
+  }
+  // Into f lane by lane (the elements of a batch may share nodes).
+  constexpr int kRows[] = {U, V, TZ, W, TX, TY};
+  for (int l = 0; l < b.lanes; ++l)
+    for (int a = 0; a < 4; ++a) {
+      double* y = f.data() + kNodeDofs * b.nodes[a][l];
+      for (int k = 0; k < (kInPlane ? 3 : 6); ++k) y[kRows[k]] += F[kRows[k]][a][l];
+    }
+}
+
+void ShellBatch::batch_tangent(const Batch& b, const Eigen::VectorXd& u, Lane* Kt) const {
+  // ShellElement::evaluate's type-major tangent, lane by lane (its comments give the equations):
+  // the displacement's blocks summed over the Gauss points, then the constant ones and the
+  // symmetric copy.
+  Lane X[6][4];
+  gather(b, u, X);
+  for (int k = 0; k < 576; ++k) Kt[k].setZero();
+  auto K = [Kt](int r, int c) -> Lane& { return Kt[r + 24 * c]; };
+  for (const GaussPoint& g : b.gp) {
+    Lane px[3], py[3];
+    for (int t = 0; t < 3; ++t) px[t] = dot(X[t], g.dNx), py[t] = dot(X[t], g.dNy);
+    const Lane eps[3] = {px[0] + 0.5 * (px[0] * px[0] + px[1] * px[1] + px[2] * px[2]),
+                         py[1] + 0.5 * (py[0] * py[0] + py[1] * py[1] + py[2] * py[2]),
+                         py[0] + px[1] + (px[0] * py[0] + px[1] * py[1] + px[2] * py[2])};
+    const Lane ty_x = dot(X[TY], g.dNx), ty_y = dot(X[TY], g.dNy);
+    const Lane tx_x = dot(X[TX], g.dNx), tx_y = dot(X[TX], g.dNy);
+    const Lane kap[3] = {ty_x, -tx_y, ty_y - tx_x};
+    Lane N[3];
+    for (int i = 0; i < 3; ++i)
+      N[i] = b.A[i][0] * eps[0] + b.A[i][1] * eps[1] + b.A[i][2] * eps[2] + b.B[i][0] * kap[0] + b.B[i][1] * kap[1] +
+             b.B[i][2] * kap[2];
+    const Lane gx[3] = {px[0] + 1.0, px[1], px[2]}, gy[3] = {py[0], py[1] + 1.0, py[2]};
+    // K_L + K_L* (Eq. 19, 23) on Bm_bar (u, v, w; column 4 t + node) and Bb (theta_x, theta_y).
+    Lane Bm[3][12], wABm[3][12];
+    for (int t = 0; t < 3; ++t)
+      for (int a = 0; a < 4; ++a) {
+        Bm[0][4 * t + a] = gx[t] * g.dNx[a];
+        Bm[1][4 * t + a] = gy[t] * g.dNy[a];
+        Bm[2][4 * t + a] = gx[t] * g.dNy[a] + gy[t] * g.dNx[a];
+      }
+    for (int i = 0; i < 3; ++i)
+      for (int c = 0; c < 12; ++c) wABm[i][c] = g.wA[i][0] * Bm[0][c] + g.wA[i][1] * Bm[1][c] + g.wA[i][2] * Bm[2][c];
+    for (int c = 0; c < 12; ++c)
+      for (int r = 0; r < 12; ++r) K(r, c) += Bm[0][r] * wABm[0][c] + Bm[1][r] * wABm[1][c] + Bm[2][r] * wABm[2][c];
+    for (int c = 0; c < 8; ++c)
+      for (int r = 0; r < 12; ++r)
+        K(r, 12 + c) += Bm[0][r] * g.wBBb[0][c] + Bm[1][r] * g.wBBb[1][c] + Bm[2][r] * g.wBBb[2][c];
+    // The shear's rows of w (Bs_wr's columns 0-3) against (w, theta_x, theta_y).
+    for (int c = 0; c < 12; ++c)
+      for (int r = 0; r < 4; ++r) K(8 + r, 8 + c) += g.Bs[0][r] * g.wAsBs[0][c] + g.Bs[1][r] * g.wAsBs[1][c];
+    // The drilling penalty on (u, v): Bd = (dNy / 2, -dNx / 2).
+    const Lane wd = g.weight * b.drill;
+    Lane bd[8];
+    for (int a = 0; a < 4; ++a) bd[a] = 0.5 * g.dNy[a], bd[4 + a] = -0.5 * g.dNx[a];
+    for (int c = 0; c < 8; ++c)
+      for (int r = 0; r < 8; ++r) K(r, c) += wd * bd[r] * bd[c];
+    // K_s (Eq. 22): S (x) I3 on (u, v, w).
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) {
+        const Lane S = g.weight * (N[0] * g.dNx[r] * g.dNx[c] + N[1] * g.dNy[r] * g.dNy[c] +
+                                   N[2] * (g.dNx[r] * g.dNy[c] + g.dNy[r] * g.dNx[c]));
+        for (int t = 0; t < 3; ++t) K(4 * t + r, 4 * t + c) += S;
+      }
+  }
+  for (int c = 0; c < 8; ++c)
+    for (int r = 0; r < 8; ++r) K(12 + r, 12 + c) = b.K_rot[c][r];
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 8; ++r) K(r, 20 + c) = b.Kd[8 + c][r], K(20 + c, r) = b.Kd[r][8 + c];
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) K(20 + r, 20 + c) = b.Kd[8 + c][8 + r];
+  for (int c = 0; c < 12; ++c)
+    for (int r = 0; r < 8; ++r) K(12 + r, c) = K(c, 12 + r);
+}
+
+void ShellBatch::add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, double coef,
+                             double* values) const {
+  constexpr int kEntries = kElementDofs * kElementDofs;
+  const std::array<int, kEntries>& type_major = ShellElement::type_major_index();
+  std::vector<Lane> Kt(kEntries);
+  for (const Batch& b : batches_) {
+    batch_tangent(b, u, Kt.data());
+    for (int l = 0; l < b.lanes; ++l) {
+      const int* slot = slots.data() + static_cast<std::size_t>(b.first + l) * kEntries;
+      for (int k = 0; k < kEntries; ++k)
+        if (slot[k] >= 0) values[slot[k]] += coef * Kt[type_major[k]][l];
+    }
+  }
+}
+
+}  // namespace deployfx::fem
