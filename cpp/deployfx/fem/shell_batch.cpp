@@ -67,8 +67,31 @@ void ShellBatch::gather(const Batch& b, const Eigen::VectorXd& u, Lane (&X)[6][4
 }
 
 namespace {
-ShellBatch::Lane dot(const ShellBatch::Lane* x, const ShellBatch::Lane* y) {
-  return x[0] * y[0] + x[1] * y[1] + x[2] * y[2] + x[3] * y[3];
+using Lane = ShellBatch::Lane;
+
+Lane dot(const Lane* x, const Lane* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2] + x[3] * y[3]; }
+
+// The strains at a Gauss point g of batch b for the nodes' dofs X (type t of node a) and their
+// membrane resultants: the gradients Psi (Eq. 20), the Green membrane strain (Eq. 14), the
+// curvature (beta_x = theta_y, beta_y = -theta_x) and N = A eps + B kap.
+struct Strains {
+  Lane px[3], py[3], eps[3], kap[3], N[3];
+};
+template <class GaussPoint, class Batch>
+Strains strains(const GaussPoint& g, const Batch& b, const Lane (&X)[6][4]) {
+  Strains s;
+  Lane *px = s.px, *py = s.py;
+  for (int t = 0; t < 3; ++t) px[t] = dot(X[t], g.dNx), py[t] = dot(X[t], g.dNy);
+  s.eps[0] = px[0] + 0.5 * (px[0] * px[0] + px[1] * px[1] + px[2] * px[2]);
+  s.eps[1] = py[1] + 0.5 * (py[0] * py[0] + py[1] * py[1] + py[2] * py[2]);
+  s.eps[2] = py[0] + px[1] + (px[0] * py[0] + px[1] * py[1] + px[2] * py[2]);
+  const Lane ty_x = dot(X[TY], g.dNx), ty_y = dot(X[TY], g.dNy);
+  const Lane tx_x = dot(X[TX], g.dNx), tx_y = dot(X[TX], g.dNy);
+  s.kap[0] = ty_x, s.kap[1] = -tx_y, s.kap[2] = ty_y - tx_x;
+  for (int i = 0; i < 3; ++i)
+    s.N[i] = b.A[i][0] * s.eps[0] + b.A[i][1] * s.eps[1] + b.A[i][2] * s.eps[2] + b.B[i][0] * s.kap[0] +
+             b.B[i][1] * s.kap[1] + b.B[i][2] * s.kap[2];
+  return s;
 }
 }  // namespace
 
@@ -81,18 +104,8 @@ void ShellBatch::add_batch(const Batch& b, const Eigen::VectorXd& u, Eigen::Vect
   for (int t = 0; t < 6; ++t)
     for (int a = 0; a < 4; ++a) F[t][a].setZero();
   for (const GaussPoint& g : b.gp) {
-    Lane px[3], py[3];  // Psi (Eq. 20)
-    for (int t = 0; t < 3; ++t) px[t] = dot(X[t], g.dNx), py[t] = dot(X[t], g.dNy);
-    const Lane eps[3] = {px[0] + 0.5 * (px[0] * px[0] + px[1] * px[1] + px[2] * px[2]),
-                         py[1] + 0.5 * (py[0] * py[0] + py[1] * py[1] + py[2] * py[2]),
-                         py[0] + px[1] + (px[0] * py[0] + px[1] * py[1] + px[2] * py[2])};  // Eq. 14
-    const Lane ty_x = dot(X[TY], g.dNx), ty_y = dot(X[TY], g.dNy);
-    const Lane tx_x = dot(X[TX], g.dNx), tx_y = dot(X[TX], g.dNy);
-    const Lane kap[3] = {ty_x, -tx_y, ty_y - tx_x};
-    Lane N[3];
-    for (int i = 0; i < 3; ++i)
-      N[i] = b.A[i][0] * eps[0] + b.A[i][1] * eps[1] + b.A[i][2] * eps[2] + b.B[i][0] * kap[0] + b.B[i][1] * kap[1] +
-             b.B[i][2] * kap[2];
+    const Strains st = strains(g, b, X);
+    const Lane *px = st.px, *py = st.py, *eps = st.eps, *kap = st.kap, *N = st.N;
     const Lane& w = g.weight;
     const Lane drill = w * b.drill * (dot(X[TZ], g.N) - 0.5 * (dot(X[V], g.dNx) - dot(X[U], g.dNy)));
     const Lane gx[3] = {px[0] + 1.0, px[1], px[2]}, gy[3] = {py[0], py[1] + 1.0, py[2]};
@@ -137,18 +150,8 @@ void ShellBatch::batch_tangent(const Batch& b, const Eigen::VectorXd& u, Lane* K
   for (int k = 0; k < 576; ++k) Kt[k].setZero();
   auto K = [Kt](int r, int c) -> Lane& { return Kt[r + 24 * c]; };
   for (const GaussPoint& g : b.gp) {
-    Lane px[3], py[3];
-    for (int t = 0; t < 3; ++t) px[t] = dot(X[t], g.dNx), py[t] = dot(X[t], g.dNy);
-    const Lane eps[3] = {px[0] + 0.5 * (px[0] * px[0] + px[1] * px[1] + px[2] * px[2]),
-                         py[1] + 0.5 * (py[0] * py[0] + py[1] * py[1] + py[2] * py[2]),
-                         py[0] + px[1] + (px[0] * py[0] + px[1] * py[1] + px[2] * py[2])};
-    const Lane ty_x = dot(X[TY], g.dNx), ty_y = dot(X[TY], g.dNy);
-    const Lane tx_x = dot(X[TX], g.dNx), tx_y = dot(X[TX], g.dNy);
-    const Lane kap[3] = {ty_x, -tx_y, ty_y - tx_x};
-    Lane N[3];
-    for (int i = 0; i < 3; ++i)
-      N[i] = b.A[i][0] * eps[0] + b.A[i][1] * eps[1] + b.A[i][2] * eps[2] + b.B[i][0] * kap[0] + b.B[i][1] * kap[1] +
-             b.B[i][2] * kap[2];
+    const Strains st = strains(g, b, X);
+    const Lane *px = st.px, *py = st.py, *N = st.N;
     const Lane gx[3] = {px[0] + 1.0, px[1], px[2]}, gy[3] = {py[0], py[1] + 1.0, py[2]};
     // K_L + K_L* (Eq. 19, 23) on Bm_bar (u, v, w; column 4 t + node) and Bb (theta_x, theta_y).
     Lane Bm[3][12], wABm[3][12];
