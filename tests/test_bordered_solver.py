@@ -43,16 +43,33 @@ def test_symmetric_elastic_block_solves_to_round_off(nb):
         assert np.abs(x - x_ref).max() <= 1e-12 * np.abs(x_ref).max()
 
 
-@pytest.mark.parametrize("nb", [0, 7], ids=lambda nb: f"border{nb}")
+@pytest.mark.parametrize("nb", [0, 7, 9], ids=lambda nb: f"border{nb}")
 def test_in_plane_node_blocks_of_three(nb):
     # Nodes of three dofs (a shell's in-plane dofs: the slaved block of a membrane sweep) factorize
-    # over 3 x 3 blocks; the solve of one right-hand side and the border's seven columns at once
-    # (E^-1 C) match LAPACK's to 1e-12 relative, refined against a skew part or not.
+    # over 3 x 3 blocks (stored padded to 4 x 3); the solve of one right-hand side and the border's
+    # columns at once (E^-1 C: seven, or nine in two passes of up to eight) match LAPACK's to 1e-12
+    # relative, refined against a skew part or not.
     for skew in (0.0, 1e-4):
         A, B, C, E, r, x_ref = bordered(nb, nodes=50, skew=skew, node_dofs=3)
         x, method = _core.bordered_solve(A, B, C, E, r, True)
         assert method == "block-ldlt"
         assert np.abs(x - x_ref).max() <= (1e-12 if skew == 0 else 1e-7) * np.abs(x_ref).max()
+
+
+def test_nodes_of_two_and_three_dofs_indefinite():
+    # 3 x 3 blocks with every third node holding two dofs (padded with a unit pivot) and an
+    # indefinite symmetric E (shifted past its fourth eigenvalue: each pivot block through its own
+    # pivoted LDL^T), with a border of nine columns: backward stable (below 10 eps, Higham 2002,
+    # Sec. 7.1) and within 1e-10 of LAPACK's solve.
+    _, _, _, E, _, _ = bordered(1, nodes=45, node_dofs=3)
+    keep = [d for d in range(E.shape[0]) if not (d // 3 % 3 == 1 and d % 3 == 2)]
+    E = E[keep][:, keep]
+    lam = np.linalg.eigvalsh(E.toarray())
+    E = (E - 1.5 * lam[3] * sp.identity(E.shape[0])).tocsc()
+    assert (np.linalg.eigvalsh(E.toarray()) < 0).sum() >= 4
+    method, error, backward = _solve_check(E, nb=9)
+    assert method == "block-ldlt"
+    assert error <= 1e-10 and backward <= 10 * np.finfo(float).eps
 
 
 def test_skew_part_is_refined_only_for_the_exact_solve():

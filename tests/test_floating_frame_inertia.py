@@ -76,15 +76,17 @@ def test_products_equal_each_mass_blocks_product(setup, mesh):
     model = plate.model
     if mesh == "tilted":
         model, ffi = tilted_plate_inertia(lam)
-    z = np.random.default_rng(3).normal(size=model.num_dofs)
+    rng = np.random.default_rng(3)
+    z, z2 = rng.normal(size=model.num_dofs), rng.normal(size=model.num_dofs)
     P = ffi.products(z)
-    assert len(P) == 9
+    P1, P2 = ffi.products_pair(z, z2)  # two vectors in one pass (a residual's d and dd')
+    assert len(P) == len(P1) == len(P2) == 9
     for i in range(3):
         for j in range(3):
             Mij = ffi.Mij(i, j)
-            ref = Mij @ z
-            scale = abs(Mij).max() * np.abs(z).sum()
-            assert np.abs(P[3 * i + j] - ref).max() <= 1e-14 * scale, (i, j)
+            for p, v in ((P, z), (P1, z), (P2, z2)):
+                scale = abs(Mij).max() * np.abs(v).sum()
+                assert np.abs(p[3 * i + j] - Mij @ v).max() <= 1e-14 * scale, (i, j)
     with pytest.raises(ValueError, match="z has wrong size"):
         ffi.products(z[:-1])
 

@@ -34,6 +34,15 @@ void define_body(py::module_& m) {
            },
            py::arg("z"),
            "The nine M_ij z, index 3 i + j, that the d-dependent integrals are built from.")
+      .def("products_pair",
+           [](const FloatingFrameInertia& f, const Eigen::VectorXd& z1, const Eigen::VectorXd& z2) {
+             FloatingFrameInertia::Products P1, P2;
+             f.products(z1, z2, nullptr, P1, P2);  // one pass for both (a residual's d and dd')
+             std::vector<Eigen::VectorXd> out1, out2;
+             for (int k = 0; k < 9; ++k) out1.push_back(P1[k]), out2.push_back(P2[k]);
+             return py::make_tuple(out1, out2);
+           },
+           py::arg("z1"), py::arg("z2"), "products(z1) and products(z2), formed in one pass.")
       .def("first_moment", &FloatingFrameInertia::first_moment, py::arg("d"))
       .def("inertia_tensor", [](const FloatingFrameInertia& f, const Eigen::VectorXd& d) { return f.inertia_tensor(d); },
            py::arg("d"))

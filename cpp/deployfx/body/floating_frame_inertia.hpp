@@ -216,7 +216,8 @@ class FloatingFrameInertia {
   void mass_product_add(const Eigen::VectorXd& z, Eigen::VectorXd& y) const;
   // The M_ij as three scalar matrices on the node graph (floating_frame_nodes.cpp), m[k](a, b) =
   // sum I_k w N_a N_b, one pattern, by rows; empty where the mesh's kinematics do not split so (a
-  // mesh off the x-y plane) and in a Ritz basis: products() then runs on the M_ij.
+  // mesh off the x-y plane, or an element in it whose normal is -z) and in a Ritz basis:
+  // products() then runs on the M_ij.
   struct NodeMass {
     std::array<Eigen::SparseMatrix<double, Eigen::RowMajor>, 3> m;
     bool empty() const { return m[0].rows() == 0; }

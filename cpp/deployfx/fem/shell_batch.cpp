@@ -28,7 +28,7 @@ ShellBatch::ShellBatch(const std::vector<ShellElement>& elements,
         for (int a = 0; a < 4; ++a) g.N[a][l] = o.N(a), g.dNx[a][l] = o.dNx(a), g.dNy[a][l] = o.dNy(a);
         for (int r = 0; r < 2; ++r)
           for (int k = 0; k < 12; ++k) g.Bs[r][k][l] = o.Bs_wr(r, k);
-        g.weight[l] = l < b.lanes ? o.weight : 0.0;  // an unused lane adds nothing
+        g.weight[l] = l < b.lanes ? o.weight : 0.0;  // an unused lane's force is zero (and never scattered)
         const ShellElement::TangentOperators t = el.tangent_operators(q);
         for (int i = 0; i < 3; ++i) {
           for (int j = 0; j < 3; ++j) g.wA[i][j][l] = t.wA(i, j);
@@ -39,8 +39,11 @@ ShellBatch::ShellBatch(const std::vector<ShellElement>& elements,
       }
       for (int c = 0; c < 8; ++c)
         for (int r = 0; r < 8; ++r) b.K_rot[c][r][l] = el.rotation_tangent()(r, c);
-      for (int c = 0; c < 12; ++c)
-        for (int r = 0; r < 12; ++r) b.Kd[c][r][l] = el.drilling_tangent()(r, c);
+      const Eigen::Matrix<double, 12, 12>& Kd = el.drilling_tangent();
+      for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 8; ++r) b.drill_uv_tz[c][r][l] = Kd(r, 8 + c), b.drill_tz_uv[r][c][l] = Kd(8 + c, r);
+        for (int r = 0; r < 4; ++r) b.drill_tz_tz[c][r][l] = Kd(8 + r, 8 + c);
+      }
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) b.A[i][j][l] = el.A()(i, j), b.B[i][j][l] = el.B()(i, j), b.D[i][j][l] = el.D()(i, j);
       for (int i = 0; i < 2; ++i)
@@ -187,10 +190,10 @@ void ShellBatch::batch_tangent(const Batch& b, const Eigen::VectorXd& u, Lane* K
   }
   for (int c = 0; c < 8; ++c)
     for (int r = 0; r < 8; ++r) K(12 + r, 12 + c) = b.K_rot[c][r];
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 8; ++r) K(r, 20 + c) = b.Kd[8 + c][r], K(20 + c, r) = b.Kd[r][8 + c];
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r) K(20 + r, 20 + c) = b.Kd[8 + c][8 + r];
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 8; ++r) K(r, 20 + c) = b.drill_uv_tz[c][r], K(20 + c, r) = b.drill_tz_uv[r][c];
+    for (int r = 0; r < 4; ++r) K(20 + r, 20 + c) = b.drill_tz_tz[c][r];
+  }
   for (int c = 0; c < 12; ++c)
     for (int r = 0; r < 8; ++r) K(12 + r, c) = K(c, 12 + r);
 }

@@ -48,7 +48,10 @@ class ShellBatch {
     int lanes;             // elements in the batch
     GaussPoint gp[4];
     Lane A[3][3], B[3][3], D[3][3], As[2][2], drill;  // section constants, drilling modulus
-    Lane K_rot[8][8], Kd[12][12];  // the tangent's constant blocks (column-major [c][r])
+    // The tangent's constant blocks ([c][r]): bending and shear on (theta_x, theta_y), and the
+    // drilling penalty's corners (u, v) x theta_z, theta_z x (u, v), theta_z x theta_z
+    // (ShellElement::rotation_tangent, drilling_tangent).
+    Lane K_rot[8][8], drill_uv_tz[4][8], drill_tz_uv[8][4], drill_tz_tz[4][4];
   };
   void gather(const Batch& b, const Eigen::VectorXd& u, Lane (&X)[6][4]) const;
   template <bool kInPlane>

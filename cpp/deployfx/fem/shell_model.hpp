@@ -28,8 +28,9 @@ class ShellModel {
   const NodeMatrix& nodes() const { return nodes_; }
   const QuadMatrix& quads() const { return quads_; }
   const std::vector<ShellElement>& elements() const { return elements_; }
-  /// Whether internal_force()'s force alone and in_plane_force() run four elements at a time
-  /// (fem/shell_batch.hpp: every element in world axes).
+  /// Whether internal_force()'s force alone, its tangent alone (and add_tangent() without a
+  /// force) and in_plane_force() run four elements at a time (fem/shell_batch.hpp: every element
+  /// in world axes).
   bool batched_force() const { return !batch_.empty(); }
 
   const SparseMatrix& stiffness() const { return K_; }  ///< K_L, N/m and N m/rad

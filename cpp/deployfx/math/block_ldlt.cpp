@@ -4,6 +4,7 @@
 #include <Eigen/OrderingMethods>
 #include <algorithm>
 #include <cstring>
+#include <limits>
 
 #include "deployfx/math/block_product.hpp"
 #include "deployfx/math/block_solve.hpp"
@@ -183,7 +184,10 @@ bool BlockLDLT::factorize_blocks() {
     const Block D_sym = 0.5 * (D + D.transpose());
     D = D_sym;
     const Eigen::LDLT<Block> ldlt(D_sym);
-    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().cwiseAbs().minCoeff() > 0)) return false;
+    // A pivot at or below the smallest normal double (LDLT::solve took it as zero) fails the
+    // factorization: its inverse would overflow.
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().cwiseAbs().minCoeff() > std::numeric_limits<double>::min()))
+      return false;
     Map D_inv(values_.data() + kSize * (2 * j + 1));
     D_inv = pivot_inverse(ldlt);
     if (!D_inv.allFinite()) return false;

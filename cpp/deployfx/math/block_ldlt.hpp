@@ -4,7 +4,8 @@
 // (fem::kNodeDofs) couple to the same neighbours, or its in-plane part (three dofs a node: the
 // slaved block of integrate/slaved_block.hpp). L is unit block lower triangular and block sparse
 // with dense blocks, D block diagonal; every update of the factorization and of its triangular
-// solves is a fixed-size 6 x 6 (or 3 x 3) product (one vectorized kernel, no index per scalar),
+// solves is a fixed-size 6 x 6 (or 3 x 3, stored padded to 4 x 3) product (one vectorized kernel,
+// no index per scalar),
 // where a scalar sparse LDL^T (Eigen's SimplicialLDLT) reads an index and does one multiply-add
 // per entry. These are the supernodes of the node graph at their narrowest (George & Liu,
 // Computer Solution of Large Sparse Positive Definite Systems, 1981, Sec. 5.5, indistinguishable

@@ -1,15 +1,17 @@
 #pragma once
 // The dense block products of the block LDL^T (math/block_ldlt.cpp), column-major: C = A B or
-// C -= A B for a kBlock x kBlock A and a kBlock x kCols B (or B^T, kCols x kBlock), each block
-// stored with kBlockRows<kBlock> rows (6 x 6 as it is; 3 x 3 padded to 4 rows with a zero row, so
-// that a column is one four-lane register; a vector of kCols = 1 likewise). Eigen's own
+// C -= A B for a kBlock x kBlock A and a kBlock x kCols B (or B^T, B kCols x kBlock), each block
+// (B and B^T's B too) stored with kBlockRows<kBlock> rows, its leading dimension (6 x 6 as it
+// is; 3 x 3 padded to 4 rows with a zero row, so that a column is one four-lane register; a
+// vector of kCols = 1 likewise). Eigen's own
 // fixed-size 6 x 6 products run on two-lane packets (the largest packet that divides 6: SSE even
 // on an AVX machine); for 6 x 6, where the CPU has AVX and FMA, rows 0-3 go in one four-lane
 // register and rows 4-5 in a two-lane one, half the instructions. Every entry is formed exactly
 // as Eigen forms it (ProductEvaluators.h, etor_product_packet_impl: a multiply by op(B)'s first
 // row, fused multiply-adds over the rest of k, then the assignment or the subtraction from C), so
 // the factor is bit for bit Eigen's. CPUs without AVX and FMA take Eigen's expression itself.
-// C may be A (A is read whole first), or B if it has one column (read whole before C is written).
+// Without kSubtract C may be A (A is read whole first), or B if it has one column (read whole
+// before C is written); with it C must be neither (Eigen's path subtracts without a temporary).
 #include <Eigen/Core>
 
 #if defined(__AVX__) && defined(__FMA__)
