@@ -10,7 +10,7 @@ constexpr int U = 0, V = 1, W = 2, TX = 3, TY = 4, TZ = 5;  // a node's dof type
 }  // namespace
 
 ShellBatch::ShellBatch(const std::vector<ShellElement>& elements,
-                                 const Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>& quads) {
+                       const Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>& quads) {
   for (const ShellElement& el : elements)
     if (!el.world_axes()) return;
   const int n = static_cast<int>(elements.size());

@@ -177,7 +177,7 @@ namespace {
 // column holds 6 to 54 entries): (P^T x)_c for P's values `value` on `pattern`.
 template <class Value>
 double gathered(const Eigen::SparseMatrix<double>& pattern, Eigen::Index c, const Value& value,
-                       const Eigen::Ref<const Eigen::VectorXd>& x) {
+                const Eigen::Ref<const Eigen::VectorXd>& x) {
   const int* outer = pattern.outerIndexPtr();
   const int* row = pattern.innerIndexPtr();
   double sum[4] = {0, 0, 0, 0};

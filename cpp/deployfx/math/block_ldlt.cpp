@@ -32,7 +32,12 @@ Eigen::Matrix<double, kBlock, kBlock> pivot_inverse(const Eigen::LDLT<Eigen::Mat
   return (ldlt.transpositionsP().transpose() * Y.transpose()).transpose();  // (P^T (P^T X)^T)^T = P^T X P
 }
 
+// kBlockRows for a block size known at run time (6 or 3).
+int block_rows(int block) { return block == 3 ? kBlockRows<3> : kBlockRows<kMaxBlock>; }
+
 }  // namespace
+
+int BlockLDLT::stored_rows() const { return block_rows(block_); }
 
 bool BlockLDLT::analyze(const SparseMatrix& A) {
   blocks_ = 0;
@@ -66,7 +71,7 @@ bool BlockLDLT::analyze(const SparseMatrix& A) {
   const int largest = *std::max_element(group_size.begin(), group_size.end());
   const int block = 4 * ng <= n ? kMaxBlock : largest <= 3 && 2 * ng <= n ? 3 : 0;
   if (block == 0) return false;
-  const int rows = block == 3 ? kBlockRows<3> : kBlockRows<kMaxBlock>;  // a block's stored rows
+  const int rows = block_rows(block);  // a block's stored rows
   const int kSize = rows * block;  // values stored a block
   // The groups' graph (a group's first column holds its pattern) and its AMD ordering:
   // order[new] = old (the ordering's convention, as in CSparse's cs_amd), rank[old] = new.

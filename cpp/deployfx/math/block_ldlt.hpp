@@ -56,7 +56,7 @@ class BlockLDLT {
   template <class Rhs>
   void solve_padded(Rhs& X) const;  // solve_in_place for the analysed block size
 
-  int stored_rows() const { return block_ == 3 ? 4 : block_; }  // kBlockRows (math/block_product.hpp)
+  int stored_rows() const;  // rows a block is stored with: kBlockRows<block_> (math/block_product.hpp)
 
   int n_ = 0;       // scalar rows of A
   int block_ = 0;   // dofs per block: 6 or 3
