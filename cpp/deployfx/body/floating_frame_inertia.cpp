@@ -14,33 +14,6 @@ namespace deployfx::body {
 using fem::kElementDofs;
 using fem::kNodeDofs;
 
-namespace {
-
-// y_v = A z_v (A column-major: scattered by row) and yt_v = A^T z_v (gathered by column) for V
-// vectors in one pass over A: each sum in the order of Eigen's sparse product (column by column,
-// from zero); the gathered sums hide the scatter's latency (by rows: two passes, no faster).
-template <int V>
-void sparse_pass(const Eigen::SparseMatrix<double>& A, const std::array<const double*, V>& z,
-                 const std::array<double*, V>& y, const std::array<double*, V>& yt) {
-  const Eigen::Index n = A.cols();
-  const int* outer = A.outerIndexPtr();
-  const int* row = A.innerIndexPtr();
-  const double* val = A.valuePtr();
-  for (int v = 0; v < V; ++v) std::fill(y[v], y[v] + A.rows(), 0.0);
-  for (Eigen::Index c = 0; c < n; ++c) {
-    std::array<double, V> zc, sum;
-    for (int v = 0; v < V; ++v) zc[v] = z[v][c], sum[v] = 0;
-    for (int k = outer[c]; k < outer[c + 1]; ++k)
-      for (int v = 0; v < V; ++v) {
-        y[v][row[k]] += val[k] * zc[v];
-        sum[v] += val[k] * z[v][row[k]];
-      }
-    for (int v = 0; v < V; ++v) yt[v][c] = sum[v];
-  }
-}
-
-}  // namespace
-
 FloatingFrameInertia::FloatingFrameInertia(const fem::ShellModel& model) : M_(model.mass()) {
   // The mesh's mass matrix is stored on the node-block pattern of its stiffness, 72 % zeros (the
   // consistent mass couples like components only): M_ keeps its nonzeros alone, so the products
@@ -189,34 +162,6 @@ void FloatingFrameInertia::products(const Eigen::VectorXd& z1, const Eigen::Vect
   P1 = recorded(z1, memo);
   P2 = recorded(z2, memo);
   compute_products<2>({&z1, &z2}, {P1.p_.get(), P2.p_.get()});
-}
-
-template <int V>
-void FloatingFrameInertia::compute_products(const std::array<const Eigen::VectorXd*, V>& z,
-                                            const std::array<Eigen::VectorXd*, V>& out) const {
-  const Eigen::Index n = z[0]->size();
-  for (int v = 0; v < V; ++v) out[v]->resize(9 * n);
-  if (dense_) {
-    for (int v = 0; v < V; ++v) out[v]->noalias() = Mij_stacked_ * *z[v];
-    return;
-  }
-  if (!node_mass_.empty()) return node_products<V>(z, out);
-  // With M_ji = M_ij^T, the M_ij with i <= j give all nine: one pass over M_ij (column-major)
-  // gives both y = M_ij z (scattered by row) and y' = M_ji z (gathered by column), and M_ii z is
-  // gathered by rows (math/sparse_rows.hpp: 8 % of inertial_forces() on the paper's 15 x 10
-  // mesh); the V vectors share each pass (their sums' chains interleave).
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j) {
-      std::array<const double*, V> zv;
-      std::array<double*, V> y, yt;
-      for (int v = 0; v < V; ++v) {
-        zv[v] = z[v]->data();
-        y[v] = out[v]->data() + (3 * i + j) * n;
-        yt[v] = out[v]->data() + (3 * j + i) * n;
-      }
-      if (i == j) rows_product<V, false>(Mii_rows_[i], zv, y);
-      else sparse_pass<V>(Mij_[3 * i + j], zv, y, yt);
-    }
 }
 
 void FloatingFrameInertia::check(const Eigen::VectorXd& d, const char* name) const {

@@ -214,7 +214,7 @@ class FloatingFrameInertia {
   // sums in the same order as Eigen's column-major product, whose scatter's latency took half of
   // forces()' time on the paper's 15 x 10 mesh; y and z distinct.
   void mass_product_add(const Eigen::VectorXd& z, Eigen::VectorXd& y) const;
-  // The M_ij as three scalar matrices on the node graph (floating_frame_nodes.cpp), m[k](a, b) =
+  // The M_ij as three scalar matrices on the node graph (floating_frame_products.cpp), m[k](a, b) =
   // sum I_k w N_a N_b, one pattern, by rows; empty where the mesh's kinematics do not split so (a
   // mesh off the x-y plane, or an element in it whose normal is -z) and in a Ritz basis:
   // products() then runs on the M_ij.
@@ -224,7 +224,7 @@ class FloatingFrameInertia {
   };
   NodeMass node_mass_;
   static NodeMass node_mass(const fem::ShellModel& model);
-  // compute_products() by node_mass_ (floating_frame_nodes.cpp).
+  // compute_products() by node_mass_ (floating_frame_products.cpp).
   template <int V>
   void node_products(const std::array<const Eigen::VectorXd*, V>& z, const std::array<Eigen::VectorXd*, V>& out) const;
   // c with centrifugal_load(w) = C^T c.

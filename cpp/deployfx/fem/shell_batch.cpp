@@ -5,9 +5,7 @@
 
 namespace deployfx::fem {
 
-namespace {
-constexpr int U = 0, V = 1, W = 2, TX = 3, TY = 4, TZ = 5;  // a node's dof types
-}  // namespace
+using namespace node_dof;  // U, V, W, TX, TY, TZ: a node's six dofs
 
 ShellBatch::ShellBatch(const std::vector<ShellElement>& elements,
                        const Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>& quads) {

@@ -22,6 +22,10 @@ namespace deployfx::fem {
 
 constexpr int kNodeDofs = 6;
 constexpr int kElementDofs = 4 * kNodeDofs;
+/// A node's dof types, in the order of its six dofs.
+namespace node_dof {
+constexpr int U = 0, V = 1, W = 2, TX = 3, TY = 4, TZ = 5;
+}  // namespace node_dof
 using ElemVec = Eigen::Matrix<double, kElementDofs, 1>;
 using ElemMat = Eigen::Matrix<double, kElementDofs, kElementDofs>;
 using RowOp = Eigen::Matrix<double, 1, kElementDofs>;
