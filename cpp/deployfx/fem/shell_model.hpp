@@ -78,7 +78,7 @@ class ShellModel {
   NodeMatrix nodes_;
   QuadMatrix quads_;
   std::vector<ShellElement> elements_;
-  ShellBatch batch_;  // the force four elements at a time (a mesh in world axes), else empty
+  ShellBatch batch_;  // force and tangent four elements at a time (a mesh in world axes), else empty
   SparseMatrix pattern_;               // compressed, zero values
   std::vector<int> slots_;             // (elements x 576): element entry -> pattern_ value index
   SparseMatrix K_, M_;
