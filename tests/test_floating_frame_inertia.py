@@ -68,7 +68,7 @@ def tilted_plate_inertia(lam):
 @pytest.mark.parametrize("mesh", ["flat", "tilted"])
 def test_products_equal_each_mass_blocks_product(setup, mesh):
     # products() forms the nine M_ij z without the nine sparse products: on a mesh in the x-y plane
-    # from three scalar matrices on the node graph (body/floating_frame_nodes.cpp), otherwise with
+    # from three scalar matrices on the node graph (body/floating_frame_products.cpp), otherwise with
     # M_ji z as (M_ij^T) z in the pass over M_ij (M_ji = M_ij^T, checked above). Each must equal
     # the sparse product with its own block to round-off (1e-14 of |M_ij| |z|, the summation order
     # differing), the blocks' zeros included.
