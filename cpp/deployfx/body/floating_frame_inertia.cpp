@@ -203,15 +203,11 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::rotation_coupling(const Pro
 }
 
 void FloatingFrameInertia::fill_rotation_coupling(const Products& Pd, Matrix3X& H) const {
-  // Row i = C_(jk) - C_(kj) + (M_kj d - M_jk d)^T, (i, j, k) cyclic; formed column by column (H's
-  // columns are contiguous, its rows strided).
-  std::array<const double*, 9> P;
-  for (int k = 0; k < 9; ++k) P[k] = Pd[k].data();
-  for (Eigen::Index c = 0; c < H.cols(); ++c)
-    for (int i = 0; i < 3; ++i) {
-      const int j = (i + 1) % 3, k = (i + 2) % 3;
-      H(i, c) = C_(3 * j + k, c) - C_(3 * k + j, c) + (P[3 * k + j][c] - P[3 * j + k][c]);
-    }
+  // Row i = C_(jk) - C_(kj) + (M_kj d - M_jk d)^T, (i, j, k) cyclic.
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    H.row(i) = C_.row(3 * j + k) - C_.row(3 * k + j) + (Pd[3 * k + j] - Pd[3 * j + k]).transpose();
+  }
 }
 
 double FloatingFrameInertia::kinetic_energy(const Eigen::Vector3d& V, const Eigen::Vector3d& w,
@@ -272,27 +268,18 @@ FloatingFrameInertia::Matrix3X FloatingFrameInertia::contract_inertia(const Prod
   // E_ij(d) = E0_ij + C_(ij) d + C_(ji) d + d^T M_ij d, so dE_ij/dd = C_(ij) + C_(ji) + z^T (M_ij + M_ji)
   // with z = d (M_ij^T z = M_ji z); (J x) = tr(E) x - E x.
   // Row l: x_l tr(g) - sum_j x_j g_lj, g_lj = (M_jl z + M_lj z)^T [+ C_(lj) + C_(jl)], summed in
-  // place (no temporaries: these run four times a Newton matrix), column by column (D's columns
-  // are contiguous, its rows strided): for each entry the terms in the order above, written as
-  // plain products and sums so the compiler contracts them as it did the row-by-row sums (fused
-  // multiply-adds where the target has them; std::fma would be a library call where it has not).
+  // place, row by row (D's rows are contiguous), one expression each: no temporaries (these run
+  // four times a Newton matrix).
   const Eigen::Index n = num_dofs();
   Matrix3X D(3, n);
-  std::array<const double*, 9> Pk;
-  for (int k = 0; k < 9; ++k) Pk[k] = P[k].data();
   const Eigen::Vector3d x2 = 2.0 * x;
-  for (Eigen::Index c = 0; c < n; ++c) {
-    const double trP = Pk[0][c] + Pk[4][c] + Pk[8][c];
-    const double trC = with_C ? C_(0, c) + C_(4, c) + C_(8, c) : 0.0;
-    for (int l = 0; l < 3; ++l) {
-      double v = x2(l) * trP;
-      if (with_C) v += x2(l) * trC;
-      for (int j = 0; j < 3; ++j) {
-        v -= x(j) * (Pk[3 * j + l][c] + Pk[3 * l + j][c]);
-        if (with_C) v -= x(j) * (C_(3 * l + j, c) + C_(3 * j + l, c));
-      }
-      D(l, c) = v;
-    }
+  for (int l = 0; l < 3; ++l) {
+    auto row = D.row(l).transpose();
+    row = x2(l) * (P[0] + P[4] + P[8]);
+    for (int j = 0; j < 3; ++j) row -= x(j) * (P[3 * j + l] + P[3 * l + j]);
+    if (!with_C) continue;
+    row += x2(l) * (C_.row(0) + C_.row(4) + C_.row(8)).transpose();
+    for (int j = 0; j < 3; ++j) row -= x(j) * (C_.row(3 * l + j) + C_.row(3 * j + l)).transpose();
   }
   return D;
 }

@@ -24,7 +24,11 @@ namespace deployfx::body {
 class FloatingFrameInertia {
  public:
   using SparseMatrix = Eigen::SparseMatrix<double>;
-  using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+  // Row-major: their rows are the integrals (int rho N_i, ...), each a contiguous vector over the
+  // dofs, so that products with d are three (nine) long dot products and their rows are formed by
+  // vector operations (column-major, a product with d was a chain of 3-long columns, latency-bound).
+  using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
+  using Matrix9X = Eigen::Matrix<double, 9, Eigen::Dynamic, Eigen::RowMajor>;
 
   /// The integrals over all dofs of `model`, whose world frame is taken as E.
   explicit FloatingFrameInertia(const fem::ShellModel& model);
@@ -39,7 +43,7 @@ class FloatingFrameInertia {
   Eigen::Matrix3d J0() const;                               ///< J_A about E's origin, kg m^2
   const Matrix3X& S1() const { return S1_; }                ///< P_A = int rho N, (3 x ndof)
   /// int rho P_i N_j, (9 x ndof), row 3 i + j.
-  const Eigen::Matrix<double, 9, Eigen::Dynamic>& C() const { return C_; }
+  const Matrix9X& C() const { return C_; }
   /// int rho N_i^T N_j for components i, j of the displacement, (ndof x ndof).
   SparseMatrix Mij(int i, int j) const;
   const SparseMatrix& M() const { return M_; }              ///< L_c: the element mass matrix
@@ -158,7 +162,7 @@ class FloatingFrameInertia {
     Eigen::SparseMatrix<double, Eigen::RowMajor> Mij_;  // rows dofs_ of M_0 .. M_8, stacked (9 m x ndof)
     Eigen::SparseMatrix<double, Eigen::RowMajor> M_;    // rows dofs_ of L_c (m x ndof)
     Matrix3X S1_;                                       // columns dofs_ of S1
-    Eigen::Matrix<double, 9, Eigen::Dynamic> C_;        // and of C
+    Matrix9X C_;                                        // and of C
   };
   /// The selection of the given dofs (each in [0, num_dofs())); std::invalid_argument otherwise,
   /// or in a Ritz basis (projected(): its Q is a few dozen entries, formed whole).
@@ -197,7 +201,7 @@ class FloatingFrameInertia {
   Eigen::Vector3d S0_;
   Eigen::Matrix3d E0_;
   Matrix3X S1_;
-  Eigen::Matrix<double, 9, Eigen::Dynamic> C_;
+  Matrix9X C_;
   // The nine int rho N_i^T N_j (index k = 3 i + j): sparse on the mesh's pattern, or, in a Ritz
   // basis (projected(); every entry is then nonzero), dense and stacked, rows k r .. k r + r - 1
   // of a (9 r x r) matrix, so that the nine products are one. Sparse, M_ji = M_ij^T, and
