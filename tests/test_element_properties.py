@@ -83,7 +83,7 @@ def test_force_and_tangent_alone_are_the_elements(tilted):
     # with two unused lanes), else element by element. Against the energy's and the force's
     # central differences (as above, 1e-5) and the element's own force and tangent
     # (internal_force's, formed together) to round-off (1e-13 relative: the same terms summed in
-    # another order); the force's in-plane rows (u, v, theta_z) alone the same, every other row zero.
+    # another order), and so is the energy alone; the force's in-plane rows (u, v, theta_z) alone the same, every other row zero.
     model = distorted_model(unsymmetric_laminate(), seed=1)
     if tilted:  # turned 30 degrees about x: no element in world axes
         c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
@@ -100,6 +100,8 @@ def test_force_and_tangent_alone_are_the_elements(tilted):
     np.testing.assert_allclose(f, f_fd, atol=1e-5 * np.abs(f).max())
     f_element, K_element = model.internal_force(u)
     np.testing.assert_allclose(f, f_element, rtol=0, atol=1e-13 * np.abs(f).max())
+    # The energy alone (an output's) against the 24-column operators' reference.
+    assert model._impl.energy(u) == pytest.approx(model.strain_energy(u), rel=1e-13)
     K = model._impl.tangent(u).toarray()
     np.testing.assert_allclose(K, K_element.toarray(), rtol=0, atol=1e-13 * np.abs(K).max())
     K_fd = np.column_stack([(model._impl.force(u + step * e) - model._impl.force(u - step * e)) / (2 * step)

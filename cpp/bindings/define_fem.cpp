@@ -77,7 +77,16 @@ void define_fem(py::module_& m) {
            },
            py::arg("u"), py::arg("in_plane_rows") = false, py::call_guard<py::gil_scoped_release>(),
            "The internal force alone (the engine's residual's; on a mesh in world axes four elements at a "
-           "time, fem/shell_batch.hpp), or with in_plane_rows its in-plane rows (u, v, theta_z).");
+           "time, fem/shell_batch.hpp), or with in_plane_rows its in-plane rows (u, v, theta_z).")
+      .def("energy",
+           [](const ShellModel& s, const Eigen::VectorXd& u) {
+             double U = 0;
+             s.internal_force(u, nullptr, nullptr, &U);
+             return U;
+           },
+           py::arg("u"), py::call_guard<py::gil_scoped_release>(),
+           "The strain energy alone (J) from the force's strains, as the engine reports it (on a mesh in "
+           "world axes four elements at a time, fem/shell_batch.hpp).");
 
   py::class_<ModalForce>(m, "ModalInternalForce",
                          "The shell model's internal force in a Ritz basis d = Phi eta, as an exact polynomial, "

@@ -94,6 +94,29 @@ Strains strains(const GaussPoint& g, const Batch& b, const Lane (&X)[6][4]) {
              b.B[i][1] * s.kap[1] + b.B[i][2] * s.kap[2];
   return s;
 }
+
+// The drilling strain theta_z - (v,x - u,y) / 2 at g.
+template <class GaussPoint>
+Lane drill_strain(const GaussPoint& g, const Lane (&X)[6][4]) {
+  return dot(X[TZ], g.N) - 0.5 * (dot(X[V], g.dNx) - dot(X[U], g.dNy));
+}
+
+// The bending moments M = B eps + D kap and the MITC4 shear strains gam (from w, theta_x, theta_y
+// of the nodes) at g.
+struct Bending {
+  Lane M[3], gam[2];
+};
+template <class GaussPoint, class Batch>
+Bending bending(const GaussPoint& g, const Batch& b, const Strains& st, const Lane (&X)[6][4]) {
+  Bending out;
+  const Lane *eps = st.eps, *kap = st.kap;
+  for (int i = 0; i < 3; ++i)
+    out.M[i] = b.B[i][0] * eps[0] + b.B[i][1] * eps[1] + b.B[i][2] * eps[2] + b.D[i][0] * kap[0] +
+               b.D[i][1] * kap[1] + b.D[i][2] * kap[2];
+  for (int r = 0; r < 2; ++r)
+    out.gam[r] = dot(g.Bs[r], X[W]) + dot(g.Bs[r] + 4, X[TX]) + dot(g.Bs[r] + 8, X[TY]);
+  return out;
+}
 }  // namespace
 
 template <bool kInPlane>
@@ -108,7 +131,7 @@ void ShellBatch::add_batch(const Batch& b, const Eigen::VectorXd& u, Eigen::Vect
     const Strains st = strains(g, b, X);
     const Lane *px = st.px, *py = st.py, *eps = st.eps, *kap = st.kap, *N = st.N;
     const Lane& w = g.weight;
-    const Lane drill = w * b.drill * (dot(X[TZ], g.N) - 0.5 * (dot(X[V], g.dNx) - dot(X[U], g.dNy)));
+    const Lane drill = w * b.drill * drill_strain(g, X);
     const Lane gx[3] = {px[0] + 1.0, px[1], px[2]}, gy[3] = {py[0], py[1] + 1.0, py[2]};
     for (int t = 0; t < (kInPlane ? 2 : 3); ++t) {
       const Lane nx = w * (N[0] * gx[t] + N[2] * gy[t]), ny = w * (N[1] * gy[t] + N[2] * gx[t]);
@@ -120,12 +143,8 @@ void ShellBatch::add_batch(const Batch& b, const Eigen::VectorXd& u, Eigen::Vect
       F[V][a] -= 0.5 * drill * g.dNx[a];
     }
     if constexpr (kInPlane) continue;
-    Lane M[3];
-    for (int i = 0; i < 3; ++i)
-      M[i] = b.B[i][0] * eps[0] + b.B[i][1] * eps[1] + b.B[i][2] * eps[2] + b.D[i][0] * kap[0] + b.D[i][1] * kap[1] +
-             b.D[i][2] * kap[2];
-    Lane gam[2];  // the MITC4 shear strains, from (w, theta_x, theta_y) of the nodes
-    for (int r = 0; r < 2; ++r) gam[r] = dot(g.Bs[r], X[W]) + dot(g.Bs[r] + 4, X[TX]) + dot(g.Bs[r] + 8, X[TY]);
+    const Bending bs = bending(g, b, st, X);
+    const Lane *M = bs.M, *gam = bs.gam;
     const Lane wQ0 = w * (b.As[0][0] * gam[0] + b.As[0][1] * gam[1]), wQ1 = w * (b.As[1][0] * gam[0] + b.As[1][1] * gam[1]);
     for (int a = 0; a < 4; ++a) {
       F[W][a] += g.Bs[0][a] * wQ0 + g.Bs[1][a] * wQ1;
@@ -140,6 +159,27 @@ void ShellBatch::add_batch(const Batch& b, const Eigen::VectorXd& u, Eigen::Vect
       double* y = f.data() + kNodeDofs * b.nodes[a][l];
       for (int k = 0; k < (kInPlane ? 3 : 6); ++k) y[kRows[k]] += F[kRows[k]][a][l];
     }
+}
+
+double ShellBatch::strain_energy(const Eigen::VectorXd& u) const {
+  // ShellElement::evaluate's energy, lane by lane: int (eps.N + kap.M + gam.Q + drill modulus
+  // drill strain^2) dA / 2; the unused lanes' weights are zero.
+  Lane U = Lane::Zero();
+  for (const Batch& b : batches_) {
+    Lane X[6][4];
+    gather(b, u, X);
+    for (const GaussPoint& g : b.gp) {
+      const Strains st = strains(g, b, X);
+      const Bending bs = bending(g, b, st, X);
+      const Lane *eps = st.eps, *kap = st.kap, *N = st.N, *M = bs.M, *gam = bs.gam;
+      const Lane Q0 = b.As[0][0] * gam[0] + b.As[0][1] * gam[1], Q1 = b.As[1][0] * gam[0] + b.As[1][1] * gam[1];
+      const Lane drill = drill_strain(g, X);
+      U += 0.5 * g.weight *
+           (eps[0] * N[0] + eps[1] * N[1] + eps[2] * N[2] + kap[0] * M[0] + kap[1] * M[1] + kap[2] * M[2] +
+            gam[0] * Q0 + gam[1] * Q1 + b.drill * drill * drill);
+    }
+  }
+  return U.sum();
 }
 
 void ShellBatch::batch_tangent(const Batch& b, const Eigen::VectorXd& u, Lane* Kt) const {

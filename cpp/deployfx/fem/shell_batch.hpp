@@ -31,6 +31,9 @@ class ShellBatch {
   /// f += the elements' internal force at the displacement u (world dofs; f sized); with
   /// `in_plane_rows`, only f's in-plane rows (u, v, theta_z of each node) gain anything.
   void add_force(const Eigen::VectorXd& u, Eigen::VectorXd& f, bool in_plane_rows) const;
+  /// The elements' strain energy at u (J), from the force's strains (ShellElement::evaluate's
+  /// `energy`, round-off apart).
+  double strain_energy(const Eigen::VectorXd& u) const;
   /// values[slots[576 e + k]] += coef (K_e)_k for the tangent K_e of element e at u, entry k of
   /// its node-major 24 x 24 (column-major), slots < 0 skipped (ShellModel::add_tangent's contract).
   void add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, double coef, double* values) const;

@@ -142,7 +142,11 @@ void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, Sp
   }
   if (energy) *energy = 0;
   if (!f && !energy) return;
-  if (!energy && !batch_.empty()) return batch_.add_force(u, *f, false);
+  if (!batch_.empty() && !energy) return batch_.add_force(u, *f, false);
+  if (!batch_.empty() && !f) {  // the energy alone (an output's)
+    *energy = batch_.strain_energy(u);
+    return;
+  }
   for (int e = 0; e < num_elements(); ++e) {
     ElemVec fe;
     double Ue = 0;
