@@ -172,8 +172,9 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
 }
 
 void FlexibleBody::align_Mij() {
+  std::array<Eigen::VectorXd, 9> aligned;
   for (int im = 0; im < 9; ++im) {
-    const Eigen::VectorXd vals = block_->aligned(ffi_.Mij(im / 3, im % 3));
+    const Eigen::VectorXd& vals = aligned[im] = block_->aligned(ffi_.Mij(im / 3, im % 3));
     AlignedNonzeros& nz = Mij_nonzeros_[im];
     if (modal_) {  // a dense block: every value
       nz.value.assign(vals.data(), vals.data() + vals.size());
@@ -182,9 +183,11 @@ void FlexibleBody::align_Mij() {
     for (Eigen::Index n = 0; n < vals.size(); ++n)
       if (vals[n] != 0.0) nz.index.push_back(static_cast<int>(n)), nz.value.push_back(vals[n]);
   }
+  if (!modal_) node_mass_blocks_ = NodeMassBlocks::build(*block_, free_, M_vals_, aligned);
 }
 
 void FlexibleBody::mass_combination(double c_a, const Eigen::Matrix3d& c, Eigen::Ref<Eigen::VectorXd> vals) const {
+  if (node_mass_blocks_) return node_mass_blocks_->combine(c_a, c, vals.data());
   vals = c_a * M_vals_;
   for (int im = 0; im < 9; ++im) {
     const double cim = c(im / 3, im % 3);
@@ -406,8 +409,9 @@ void FlexibleBody::elastic_block(const ElasticState& s, const Eigen::VectorXd& Q
     manifold_block(s, Q, w, al, c_a, c_v, c_q, vals, ws);
     return;
   }
-  mass_combination(c_a, mass_coefficients(w, al, c_v, c_q), vals);
-  add_elastic_block(s.d, c_v, c_q, vals, ws);  // K_T (or K_L), damping
+  // The Rayleigh damping's alpha_M L_c d' with the inertial L_c: one pass over the values.
+  mass_combination(c_a + c_v * spec_.alpha_M, mass_coefficients(w, al, c_v, c_q), vals);
+  add_elastic_block(s.d, c_v, c_q, vals, ws);  // K_T (or K_L), beta_K's damping
 }
 
 void FlexibleBody::manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Vector3d& w,
@@ -432,14 +436,12 @@ void FlexibleBody::add_elastic_block(const Eigen::VectorXd& d, double c_v, doubl
     Eigen::MatrixXd T;  // dense, column-major: the block's value order
     modal_->evaluate(d, nullptr, &T, ws ? &ws->modal : nullptr);
     vals += (c_q + c_v * spec_.beta_K) * Eigen::Map<const Eigen::VectorXd>(T.data(), T.size());
-    if (manifold_) return;  // alpha_M's part is the inertial force's (manifold_block)
   } else if (spec_.fidelity == Fidelity::kNonlinear) {
     // K_L + K_L* + K_s (Eq. 19, 22, 23) and the damping beta_K K_T (its d-derivative dropped).
     spec_.model->add_tangent(d, tangent_slots_, c_q + c_v * spec_.beta_K, vals.data());
   } else {
     vals += (c_q + c_v * spec_.beta_K) * K_vals_;
   }
-  vals += c_v * spec_.alpha_M * M_vals_;  // Rayleigh damping
 }
 
 double FlexibleBody::strain_energy(const ElasticState& s, const Workspace* ws) const {

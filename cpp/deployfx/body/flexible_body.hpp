@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "deployfx/body/floating_frame_inertia.hpp"
+#include "deployfx/body/node_mass_blocks.hpp"
 #include "deployfx/fem/free_block.hpp"
 #include "deployfx/fem/modal_internal_force.hpp"
 #include "deployfx/fem/quadratic_manifold.hpp"
@@ -187,7 +188,8 @@ class FlexibleBody {
   // matrix's elastic block. Each M_ij is summed over its own nonzeros (on a mesh, 3-11 % of the
   // block's entries each: it couples two translation components). Not for the manifold.
   void mass_combination(double c_a, const Eigen::Matrix3d& c, Eigen::Ref<Eigen::VectorXd> vals) const;
-  // Adds c_q d/dq + c_v d/dv of the elastic force to vals (the manifold's alpha_M term excepted).
+  // Adds c_q d/dq + c_v d/dv of the elastic force to vals, but alpha_M's (mass_combination's,
+  // on the manifold the inertial force's).
   void add_elastic_block(const Eigen::VectorXd& d, double c_v, double c_q, Eigen::Ref<Eigen::VectorXd> vals,
                          Workspace* ws) const;
   void manifold_block(const ElasticState& s, const Eigen::VectorXd& Q, const Eigen::Vector3d& w,
@@ -229,6 +231,8 @@ class FlexibleBody {
     std::vector<double> value;
   };
   std::array<AlignedNonzeros, 9> Mij_nonzeros_;
+  // mass_combination() by node blocks where the mesh allows (body/node_mass_blocks.hpp).
+  std::optional<NodeMassBlocks> node_mass_blocks_;
   void align_Mij();
 };
 
