@@ -153,7 +153,7 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
     block_.emplace(model.stiffness(), free_);
     M_vals_ = block_->aligned(ffi_.M());
     K_vals_ = block_->aligned(model.stiffness());
-    if (green_) tangent_slots_ = block_->block_slots(model.element_slots());
+    if (green_) tangent_slots_ = model.tangent_slots(block_->block_slots(model.element_slots()));
     align_Mij();
     if (green_ && fem::parity_decoupled(K_free_, free_, kParityTolerance) &&
         fem::parity_decoupled(M_free_, free_, kParityTolerance))

@@ -222,7 +222,7 @@ class FlexibleBody {
   Eigen::VectorXd M_vals_, K_vals_;
   // Full nonlinear fidelity: each element entry's slot in block()'s values (-1: a fixed dof), so
   // the tangent is assembled straight into the iteration matrix's elastic block.
-  std::vector<int> tangent_slots_;
+  fem::ShellModel::TangentSlots tangent_slots_;
   // The nonzeros of each M_ij aligned with block(): positions in its values, and the values. In a
   // Ritz basis (a dense block) every value, zeros included, and no positions: a combination is
   // then a vectorised sum over the whole array, not a scatter.

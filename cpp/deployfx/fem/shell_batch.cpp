@@ -236,17 +236,52 @@ void ShellBatch::batch_tangent(const Batch& b, const Eigen::VectorXd& u, Lane* K
     for (int r = 0; r < 8; ++r) K(12 + r, c) = K(c, 12 + r);
 }
 
-void ShellBatch::add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, double coef,
-                             double* values) const {
+std::vector<int> ShellBatch::runs(const std::vector<int>& slots) {
   constexpr int kEntries = kElementDofs * kElementDofs;
-  const std::array<int, kEntries>& type_major = ShellElement::type_major_index();
+  const std::size_t elements = slots.size() / kEntries;
+  std::vector<int> out(elements * kRuns);
+  for (std::size_t e = 0; e < elements; ++e)
+    for (int b = 0; b < 4; ++b)
+      for (int q = 0; q < kNodeDofs; ++q)
+        for (int a = 0; a < 4; ++a) {
+          // Entry (a, p; b, q) of the node-major tangent: k = 6 a + p + 24 (6 b + q).
+          const int* slot = slots.data() + e * kEntries + kNodeDofs * a + kElementDofs * (kNodeDofs * b + q);
+          bool none = true, consecutive = slot[0] >= 0;
+          for (int p = 0; p < kNodeDofs; ++p) {
+            none = none && slot[p] < 0;
+            consecutive = consecutive && slot[p] == slot[0] + p;
+          }
+          out[e * kRuns + 24 * b + 4 * q + a] = consecutive ? slot[0] : none ? -1 : -2;
+        }
+  return out;
+}
+
+void ShellBatch::add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, const std::vector<int>& runs,
+                             double coef, double* values) const {
+  constexpr int kEntries = kElementDofs * kElementDofs;
   std::vector<Lane> Kt(kEntries);
   for (const Batch& b : batches_) {
     batch_tangent(b, u, Kt.data());
     for (int l = 0; l < b.lanes; ++l) {
-      const int* slot = slots.data() + static_cast<std::size_t>(b.first + l) * kEntries;
-      for (int k = 0; k < kEntries; ++k)
-        if (slot[k] >= 0) values[slot[k]] += coef * Kt[type_major[k]][l];
+      const std::size_t e = static_cast<std::size_t>(b.first + l);
+      const int* run = runs.data() + e * kRuns;
+      for (int nb = 0; nb < 4; ++nb)
+        for (int q = 0; q < kNodeDofs; ++q) {
+          // Column (nb, q) of the type-major tangent: row (a, p) at 4 p + a.
+          const Lane* col = Kt.data() + kElementDofs * (4 * q + nb);
+          for (int a = 0; a < 4; ++a) {
+            const int s = run[24 * nb + 4 * q + a];
+            if (s == -1) continue;
+            if (s >= 0) {
+              double* v = values + s;
+              for (int p = 0; p < kNodeDofs; ++p) v[p] += coef * col[4 * p + a][l];
+              continue;
+            }
+            const int* slot = slots.data() + e * kEntries + kNodeDofs * a + kElementDofs * (kNodeDofs * nb + q);
+            for (int p = 0; p < kNodeDofs; ++p)
+              if (slot[p] >= 0) values[slot[p]] += coef * col[4 * p + a][l];
+          }
+        }
     }
   }
 }

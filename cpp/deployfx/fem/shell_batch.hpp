@@ -34,9 +34,17 @@ class ShellBatch {
   /// The elements' strain energy at u (J), from the force's strains (ShellElement::evaluate's
   /// `energy`, round-off apart).
   double strain_energy(const Eigen::VectorXd& u) const;
+  /// The runs of `slots` (576 per element, ShellModel::add_tangent's): for element e, the column
+  /// dof q of its node b and its row node a, runs[kRuns e + 24 b + 4 q + a] is the slot of entry
+  /// (a, u) when the six entries (a, u .. theta_z) land in consecutive slots, -1 when none lands,
+  /// -2 otherwise (entry by entry).
+  static constexpr int kRuns = 4 * kNodeDofs * 4;
+  static std::vector<int> runs(const std::vector<int>& slots);
   /// values[slots[576 e + k]] += coef (K_e)_k for the tangent K_e of element e at u, entry k of
-  /// its node-major 24 x 24 (column-major), slots < 0 skipped (ShellModel::add_tangent's contract).
-  void add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, double coef, double* values) const;
+  /// its node-major 24 x 24 (column-major), slots < 0 skipped (ShellModel::add_tangent's contract),
+  /// six consecutive values at a time where `runs` (runs(slots)) has them.
+  void add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, const std::vector<int>& runs,
+                   double coef, double* values) const;
 
  private:
   struct GaussPoint {

@@ -64,6 +64,18 @@ void ShellModel::build_pattern() {
         const int col = kNodeDofs * quads_(e, c / kNodeDofs) + c % kNodeDofs;
         slots_[k++] = static_cast<int>(sparse_slot(pattern_, row, col));
       }
+  pattern_slots_ = tangent_slots(slots_);
+}
+
+ShellModel::TangentSlots ShellModel::tangent_slots(std::vector<int> slots) const {
+  if (slots.size() != static_cast<std::size_t>(num_elements()) * kElementDofs * kElementDofs)
+    throw std::invalid_argument("slots must have 576 entries per element (" +
+                                std::to_string(num_elements() * kElementDofs * kElementDofs) + "), got " +
+                                std::to_string(slots.size()));
+  TangentSlots out;
+  out.runs = ShellBatch::runs(slots);
+  out.slots = std::move(slots);
+  return out;
 }
 
 template <class ElementMatrix>
@@ -137,7 +149,7 @@ void ShellModel::internal_force(const Eigen::VectorXd& u, Eigen::VectorXd* f, Sp
   if (f) f->setZero(num_dofs());
   if (K_T) {  // and f with it
     *K_T = pattern_;
-    add_tangent(u, slots_, 1.0, K_T->valuePtr(), f);
+    add_tangent(u, pattern_slots_, 1.0, K_T->valuePtr(), f);
     f = nullptr;
   }
   if (energy) *energy = 0;
@@ -167,14 +179,15 @@ void ShellModel::in_plane_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) co
   }
 }
 
-void ShellModel::add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, double coef,
-                             double* values, Eigen::VectorXd* f) const {
+void ShellModel::add_tangent(const Eigen::VectorXd& u, const TangentSlots& ts, double coef, double* values,
+                             Eigen::VectorXd* f) const {
   check_size(u, "u");
   constexpr int kEntries = kElementDofs * kElementDofs;
-  if (slots.size() != slots_.size())
-    throw std::invalid_argument("add_tangent: slots must have 576 entries per element (" +
-                                std::to_string(slots_.size()) + "), got " + std::to_string(slots.size()));
-  if (!f && !batch_.empty()) return batch_.add_tangent(u, slots, coef, values);
+  const std::vector<int>& slots = ts.slots;
+  if (slots.size() != slots_.size() || ts.runs.size() != slots.size() / kEntries * ShellBatch::kRuns)
+    throw std::invalid_argument("add_tangent: slots must be tangent_slots() of this model's " +
+                                std::to_string(num_elements()) + " elements");
+  if (!f && !batch_.empty()) return batch_.add_tangent(u, ts.slots, ts.runs, coef, values);
   // Entry k of the node-major element tangent the slots are given for is entry type_major[k] of
   // the type-major one (ShellElement::tangent_type_major), read in the slots' order: a node's six
   // rows are adjacent in the values.

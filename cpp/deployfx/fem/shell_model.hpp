@@ -58,12 +58,21 @@ class ShellModel {
   /// For each element e, where its 24 x 24 entries (column-major, k = 0..575) land in the values
   /// of stiffness()'s pattern: element_slots()[576 e + k].
   const std::vector<int>& element_slots() const { return slots_; }
+  /// Where add_tangent() puts the elements' entries: `slots` (576 per element, element_slots()'s
+  /// layout, < 0 for none) and, formed from them once, their runs: for the column dof q of an
+  /// element's node b and its row node a, the six entries (a, u .. theta_z) land in consecutive
+  /// values on a node-block pattern (ShellBatch::runs).
+  struct TangentSlots {
+    std::vector<int> slots, runs;
+  };
+  /// `slots` with their runs; std::invalid_argument unless they have 576 entries per element.
+  TangentSlots tangent_slots(std::vector<int> slots) const;
   /// The tangent K_T(u) added as values[slots[576 e + k]] += coef (K_e)_k, skipping slots < 0:
   /// assembly straight into any array whose entries the caller has mapped the elements' entries
   /// to (a free-dof block's, fem/free_block.hpp), with no sparse matrix in between. With `f`
   /// (num_dofs()), the internal force is added to it too.
-  void add_tangent(const Eigen::VectorXd& u, const std::vector<int>& slots, double coef,
-                   double* values, Eigen::VectorXd* f = nullptr) const;
+  void add_tangent(const Eigen::VectorXd& u, const TangentSlots& slots, double coef, double* values,
+                   Eigen::VectorXd* f = nullptr) const;
 
  private:
   void check_size(const Eigen::VectorXd& u, const char* name) const;
@@ -81,6 +90,7 @@ class ShellModel {
   ShellBatch batch_;  // force and tangent four elements at a time (a mesh in world axes), else empty
   SparseMatrix pattern_;               // compressed, zero values
   std::vector<int> slots_;             // (elements x 576): element entry -> pattern_ value index
+  TangentSlots pattern_slots_;         // slots_ with their runs (internal_force()'s K_T)
   SparseMatrix K_, M_;
 };
 
