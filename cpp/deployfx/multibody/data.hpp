@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "deployfx/body/flexible_body.hpp"
+#include "deployfx/integrate/bordered_solver.hpp"
 #include "deployfx/joint/lock.hpp"
 #include "deployfx/multibody/kinematics.hpp"
 #include "deployfx/multibody/model.hpp"
@@ -29,6 +30,9 @@ class Data {
   Eigen::VectorXd accepted_q;
   // Memos of the panels' evaluations (per hinge; used for the panels only).
   std::vector<body::FlexibleBody::Workspace> panels;
+  /// The mass matrix's solver at a contact's onset (hinge_inverse_inertia, events.cpp): its
+  /// elastic block's pattern analysed once a run, not at every onset.
+  integrate::BorderedSolver mass_solver;
 
   // Stage: state (set_state): the joints' and panels' coordinates.
   double t = 0;

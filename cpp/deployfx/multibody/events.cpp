@@ -32,7 +32,7 @@ Eigen::VectorXd lock_events(const Model& m, const Data& d, const Eigen::VectorXd
 HingeInverseInertia hinge_inverse_inertia(const Model& m, Data& d, const Eigen::VectorXd& q, double t, int k) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(m.num_velocities());
   const integrate::BlockMatrix M = newton_matrix(m, d, q, zero, zero, t, 1.0, 0.0, 0.0);
-  integrate::BorderedSolver solver;
+  integrate::BorderedSolver& solver = d.mass_solver;
   if (!solver.factorize(M)) throw std::runtime_error("the mass matrix is singular at t = " + std::to_string(t) + " s");
   const int i = m.body(k).iv_theta;
   Eigen::VectorXd e = zero;
