@@ -72,17 +72,23 @@ bool BorderedSolver::factorize_symmetric(const SparseMatrix& E) {
   // holds the low, mass-dominated modes the gyroscopic coupling acts on. The estimate runs 2-10x
   // below the radius (paper's scene 1e-4 against 3e-4, the spin-up beam at 20 rad/s 3e-3 against
   // 3e-2), hence the tolerance's margin; the refinement in solve() converges for any radius < 1.
-  // Es^-1 1 is solved with Z = Es^-1 C, as one more column of the border's (a hinge's 7 and it
-  // fill the block solve's eight: about a tenth of a solve instead of one).
-  Eigen::MatrixXd rhs(ne_, C_.cols() + 1);
-  rhs << C_, Eigen::VectorXd::Ones(ne_);
-  Eigen::MatrixXd Zy = solve_symmetric_block(rhs);
-  const Eigen::VectorXd y = Zy.rightCols<1>();
+  // With a border, Es^-1 1 is solved with Z = Es^-1 C, as one more column of the border's (a
+  // hinge's 7 and it fill the block solve's eight: about a tenth of a solve instead of one).
+  Eigen::MatrixXd Zy;
+  Eigen::VectorXd y;
+  if (C_.cols() > 0) {
+    Eigen::MatrixXd rhs(ne_, C_.cols() + 1);
+    rhs << C_, Eigen::VectorXd::Ones(ne_);
+    Zy = solve_symmetric_block(rhs);
+    y = Zy.rightCols<1>();
+  } else {
+    y = solve_symmetric(Eigen::VectorXd::Ones(ne_));
+  }
   Eigen::VectorXd x = y;
   for (int k = 0; k < 2; ++k) x = solve_symmetric(skew_product(x));
   const double rate = std::sqrt(x.norm() / y.norm());
   if (!(rate <= skew_tolerance_)) return false;
-  Zy.conservativeResize(Eigen::NoChange, C_.cols());
+  Zy.conservativeResize(ne_, C_.cols());
   Z_ = std::move(Zy);
   return Z_.allFinite();
 }

@@ -257,6 +257,10 @@ Eigen::MatrixXd BlockLDLT::solve(const Eigen::MatrixXd& B) const {
   Rows X(static_cast<Eigen::Index>(stored_rows()) * blocks_, kWidth);
   for (Eigen::Index c0 = 0; c0 < B.cols(); c0 += kWidth) {
     const Eigen::Index w = std::min<Eigen::Index>(kWidth, B.cols() - c0);
+    if (w == 1) {  // one column: the vector kernels (an eight-wide pass costs several of them)
+      out.col(c0) = solve(Eigen::VectorXd(B.col(c0)));
+      continue;
+    }
     X.setZero();
     for (int d = 0; d < n_; ++d) X.row(dof_slot_[d]).head(w) = B.row(d).segment(c0, w);
     solve_padded(X);
