@@ -115,7 +115,6 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
       free_ = manifold_->bending();
       K_free_ = modal_->linear_stiffness().sparseView(0.0, 0.0);
       M_free_ = fem::restrict(ffi_.M(), free_);
-      M_rows_ = M_free_;
       std::vector<int> all(static_cast<std::size_t>(n));
       std::iota(all.begin(), all.end(), 0);
       block_.emplace(Eigen::SparseMatrix<double>(Eigen::MatrixXd::Ones(n, n).sparseView()), all);
@@ -143,12 +142,11 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
   } else if (flexible()) {
     free_ = fem::free_dofs(model.num_dofs(), spec_.fixed_dofs);
     // Their nonzeros alone (the mesh pattern stores zeros: 31 % of K_L's entries, 72 % of the
-    // mass's): the products once per residual (K_L q, the damping's L_c q') form the same sums.
+    // mass's): the product once per residual (K_L q) forms the same sums.
     K_free_ = fem::restrict(model.stiffness(), free_);
     K_free_.prune([](Eigen::Index, Eigen::Index, double value) { return value != 0.0; });
     M_free_ = fem::restrict(ffi_.M(), free_);  // pruned in FloatingFrameInertia
     K_rows_ = K_free_;
-    M_rows_ = M_free_;
     // K_L, L_c, the M_ij and the tangent stiffness all live on K_L's node-block pattern.
     block_.emplace(model.stiffness(), free_);
     M_vals_ = block_->aligned(ffi_.M());
@@ -163,10 +161,6 @@ FlexibleBody::FlexibleBody(AppendageSpec spec, const std::string& name, const Ei
       std::vector<int> dofs;
       for (const int k : in_plane_) dofs.push_back(free_[k]);
       in_plane_rows_ = ffi_.select_rows(dofs);
-      std::vector<Eigen::Triplet<double>> t;
-      append_rows(M_rows_, in_plane_, 0, t);
-      M_in_plane_.resize(static_cast<Eigen::Index>(in_plane_.size()), M_rows_.cols());
-      M_in_plane_.setFromTriplets(t.begin(), t.end());
     }
   }
 }
@@ -312,11 +306,6 @@ void FlexibleBody::add_stiffness_product(double c, const Eigen::VectorXd& x, Eig
   else add_rows_product(c, K_rows_, x, r);
 }
 
-void FlexibleBody::add_mass_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const {
-  if (modal_ && !manifold_) r += c * ffi_.mass_product(x);  // M_free_ is ffi_.M() there
-  else add_rows_product(c, M_rows_, x, r);
-}
-
 void FlexibleBody::add_rows_product(double c, const RowMajorMatrix& A, const Eigen::VectorXd& x,
                                     Eigen::Ref<Eigen::VectorXd> r) {
   Eigen::VectorXd y(A.rows());
@@ -329,15 +318,14 @@ bool FlexibleBody::in_plane_force(const ElasticState& s, const Eigen::Vector3d& 
   if (!in_plane_rows_) return false;
   const auto m = static_cast<Eigen::Index>(in_plane_.size());
   if (out.size() != m) throw std::invalid_argument("in_plane_force: out must have one entry per in-plane coordinate");
-  // add_projected(Q) and add_elastic_force() at these rows, term by term: Q, f_int (Eq. 14), and
-  // the Rayleigh damping alpha_M L_c d' + beta_K K_T(d) d' (the latter by the same central
-  // difference, of the rows alone).
-  out = ffi_.inertial_force_rows(*in_plane_rows_, a, al, w, s.d, s.dd, s.ddd);
+  // add_projected(Q) and add_elastic_force() at these rows, term by term: Q with the Rayleigh
+  // damping's alpha_M L_c d' (as the residual's, multibody::inertial_wrench), f_int (Eq. 14) and
+  // beta_K K_T(d) d' (by the same central difference, of the rows alone).
+  out = ffi_.inertial_force_rows(*in_plane_rows_, a, al, w, s.d, s.dd, s.ddd, spec_.alpha_M);
   Eigen::VectorXd local;
   Eigen::VectorXd& f = ws ? ws->mesh_force : local;
   spec_.model->in_plane_force(s.d, &f);
   for (Eigen::Index i = 0; i < m; ++i) out(i) += f(free_[in_plane_[i]]);
-  if (spec_.alpha_M > 0) add_rows_product(spec_.alpha_M, M_in_plane_, s.v, out);
   add_strain_rate_damping(s.d, s.dd, true, out);
   return true;
 }
@@ -371,17 +359,11 @@ void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::Ve
   if (n == 0) return;
   const Eigen::VectorXd &q_el = s.q, &v_el = s.v, &d = s.d, &dd = s.dd;
   if (modal_ && green_) {
-    // Reduced Green strain: the polynomial force and, for damping, its exact tangent. On the
-    // manifold alpha_M L_c acts on eta' (header).
+    // Reduced Green strain: the polynomial force and, for damping, its exact tangent.
     Eigen::VectorXd f;
     Eigen::MatrixXd T;
     modal_->evaluate(q_el, &f, spec_.beta_K > 0 ? &T : nullptr, ws ? &ws->modal : nullptr);
-    if (manifold_) {
-      r += f + spec_.alpha_M * (s.G.transpose() * (L_eta_ * dd));
-    } else {
-      r += f;
-      add_mass_product(spec_.alpha_M, v_el, r);
-    }
+    r += f;
     if (spec_.beta_K > 0) r += spec_.beta_K * (T * v_el);
     return;
   }
@@ -392,9 +374,8 @@ void FlexibleBody::add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::Ve
   } else {
     add_stiffness_product(1.0, q_el, r);
   }
-  // Rayleigh damping. The stiffness-proportional part acts on the strain rate: beta_K K_L d'
-  // for linear strain, beta_K K_T(d) d' for Green strain (add_strain_rate_damping).
-  if (spec_.alpha_M > 0) add_mass_product(spec_.alpha_M, v_el, r);
+  // Rayleigh damping's stiffness-proportional part, on the strain rate: beta_K K_L d' for linear
+  // strain, beta_K K_T(d) d' for Green strain (add_strain_rate_damping).
   if (spec_.fidelity == Fidelity::kNonlinear) {
     add_strain_rate_damping(d, dd, false, r);
   } else if (spec_.beta_K > 0) {

@@ -15,8 +15,9 @@
 //   f_int(d) + alpha_M L_c d' + beta_K K(d) d',
 // f_int = K_L d (linear strain) or Green strain's force (Eq. 14; reduced: the exact cubic;
 // manifold: the quartic g condenses exactly), K(d) = K_L or the tangent K_T(d) (damping the strain
-// rate, so rigid motion is undamped). On the manifold, alpha_M L_c d' acts on eta and is projected
-// with the inertial force: G^T (Q + alpha_M L_c eta').
+// rate, so rigid motion is undamped). alpha_M L_c d' is formed with the inertial force's L_c d''
+// (one product, multibody::inertial_wrench) and projected with it; on the manifold it acts on
+// eta: G^T (Q + alpha_M L_c eta').
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
@@ -140,7 +141,10 @@ class FlexibleBody {
   Eigen::MatrixXd chain(const ElasticState& s, const Eigen::MatrixXd& X, const Eigen::MatrixXd& W_v,
                         const Eigen::MatrixXd& W_a) const;
 
-  /// Adds the elastic force (header) at the staged s to r (size num_elastic()).
+  /// Adds the elastic force (header) at the staged s to r (size num_elastic()), but its
+  /// mass-proportional damping alpha_M L_c d', which the generalized inertial force Q carries
+  /// (multibody::inertial_wrench: FloatingFrameInertia::inertial_forces' `damping`, one product
+  /// L_c (d'' + alpha_M d') for both).
   void add_elastic_force(const ElasticState& s, Eigen::Ref<Eigen::VectorXd> r, Workspace* ws = nullptr) const;
   /// The panel's own block of a Newton matrix (c_a d/da + c_v d/dv + c_q d/dq of its elastic rows
   /// in its elastic coordinates) into values aligned with block(): its generalized inertial force's
@@ -203,19 +207,17 @@ class FlexibleBody {
   // in-plane ones alone (in_plane_force()).
   void add_strain_rate_damping(const Eigen::VectorXd& d, const Eigen::VectorXd& dd, bool in_plane,
                                Eigen::Ref<Eigen::VectorXd> r) const;
-  void add_mass_product(double c, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> r) const;
   // c_L L_c + sum_ij cm(i, j) M_ij on eta (manifold).
   Eigen::MatrixXd inertia_combination(double c_L, const Eigen::Matrix3d& cm) const;
   std::vector<int> free_;
   std::vector<int> in_plane_;  // in_plane_coordinates()
-  // A mesh panel's in-plane rows (in_plane_force()): of Q, and of L_c on the elastic coordinates.
+  // A mesh panel's in-plane rows of Q (in_plane_force()).
   std::optional<FloatingFrameInertia::RowSelection> in_plane_rows_;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> M_in_plane_;
   Eigen::SparseMatrix<double> K_free_, M_free_;
-  // The same by rows where the residual multiplies them (a mesh's K_L and L_c, the manifold's
-  // L_c): math/sparse_rows.hpp, Eigen's sums without its scatter's latency.
+  // K_L by rows where the residual multiplies it (a mesh's): math/sparse_rows.hpp, Eigen's sums
+  // without its scatter's latency.
   using RowMajorMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
-  RowMajorMatrix K_rows_, M_rows_;
+  RowMajorMatrix K_rows_;
   static void add_rows_product(double c, const RowMajorMatrix& A, const Eigen::VectorXd& x,
                                Eigen::Ref<Eigen::VectorXd> r);
   std::optional<fem::FreeBlock> block_;

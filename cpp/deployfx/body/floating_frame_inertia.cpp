@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -344,7 +345,7 @@ FloatingFrameInertia::StateIntegrals FloatingFrameInertia::state_integrals(
 
 FloatingFrameInertia::InertialForces FloatingFrameInertia::forces(
     const StateIntegrals& g, const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
-    const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) const {
+    const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd, double damping) const {
   const Eigen::Vector3d S1dd = S1_ * dd, Hdd = g.H * dd;
   InertialForces f;
   f.F = m_ * a + al.cross(g.s) + S1_ * ddd + w.cross(w.cross(g.s)) + 2.0 * w.cross(S1dd);
@@ -352,7 +353,8 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::forces(
   // Term by term into f.Q: one allocation, no temporaries.
   f.Q.noalias() = S1_.transpose() * a;
   f.Q.noalias() += g.H.transpose() * al;
-  mass_product_add(ddd, f.Q);
+  if (damping != 0.0) mass_product_add(ddd + damping * dd, f.Q);  // and the damping force (header)
+  else mass_product_add(ddd, f.Q);
   f.Q.noalias() += C_.transpose() * centrifugal_weights(w);  // centrifugal_load(w)
   f.Q += g.Gd + 2.0 * g.Gdd;
   return f;
@@ -360,15 +362,17 @@ FloatingFrameInertia::InertialForces FloatingFrameInertia::forces(
 
 FloatingFrameInertia::InertialForces FloatingFrameInertia::inertial_forces(
     const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
-    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd, ProductsMemo* memo) const {
+    const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd, ProductsMemo* memo,
+    double damping) const {
   check(d, "d");
   check(dd, "dd");
   check(ddd, "ddd");
+  if (!std::isfinite(damping)) throw std::invalid_argument("inertial_forces: damping must be finite");
   // Every d-dependent integral is built from the 18 products M_ij d and M_ij dd, formed once
   // (M_ij^T = M_ji).
   Products Pd, Pdd;
   products(d, dd, memo, Pd, Pdd);
-  return forces(state_integrals(w, d, dd, Pd, Pdd), a, al, w, dd, ddd);
+  return forces(state_integrals(w, d, dd, Pd, Pdd), a, al, w, dd, ddd, damping);
 }
 
 FloatingFrameInertia::ForceJacobians FloatingFrameInertia::inertial_force_jacobians(

@@ -124,10 +124,12 @@ class FloatingFrameInertia {
     Eigen::Vector3d M;   ///< N m, about E's origin
     Eigen::VectorXd Q;   ///< on the dofs d
   };
+  /// With `damping` (alpha_M, 1/s), Q also holds the mass-proportional (Rayleigh) damping force
+  /// alpha_M L_c dd', formed with the inertial term in one product L_c (dd'' + alpha_M dd').
   InertialForces inertial_forces(const Eigen::Vector3d& a, const Eigen::Vector3d& al,
                                  const Eigen::Vector3d& w, const Eigen::VectorXd& d,
                                  const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd,
-                                 ProductsMemo* memo = nullptr) const;
+                                 ProductsMemo* memo = nullptr, double damping = 0.0) const;
 
   /// The inertial forces with their first derivatives, analytic (docs/engine-design.md,
   /// "Body-level equations"), from one set of the 27 products M_ij d, M_ij dd, M_ij dd'' (M_ij^T
@@ -167,10 +169,11 @@ class FloatingFrameInertia {
   /// The selection of the given dofs (each in [0, num_dofs())); std::invalid_argument otherwise,
   /// or in a Ritz basis (projected(): its Q is a few dozen entries, formed whole).
   RowSelection select_rows(const std::vector<int>& dofs) const;
-  /// Q's entries at rows.dofs() (in that order), as inertial_forces() forms them (to round-off).
+  /// Q's entries at rows.dofs() (in that order), as inertial_forces() forms them (to round-off;
+  /// `damping` as there).
   Eigen::VectorXd inertial_force_rows(const RowSelection& rows, const Eigen::Vector3d& a, const Eigen::Vector3d& al,
                                       const Eigen::Vector3d& w, const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
-                                      const Eigen::VectorXd& ddd) const;
+                                      const Eigen::VectorXd& ddd, double damping = 0.0) const;
 
  private:
   FloatingFrameInertia() = default;
@@ -196,7 +199,7 @@ class FloatingFrameInertia {
                                  const Eigen::VectorXd& dd, const Products& Pd, const Products& Pdd) const;
   InertialForces forces(const StateIntegrals& g, const Eigen::Vector3d& a, const Eigen::Vector3d& al,
                         const Eigen::Vector3d& w, const Eigen::VectorXd& dd,
-                        const Eigen::VectorXd& ddd) const;
+                        const Eigen::VectorXd& ddd, double damping = 0.0) const;
   double m_ = 0;
   Eigen::Vector3d S0_;
   Eigen::Matrix3d E0_;

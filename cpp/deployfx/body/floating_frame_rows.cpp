@@ -37,20 +37,25 @@ FloatingFrameInertia::RowSelection FloatingFrameInertia::select_rows(const std::
 Eigen::VectorXd FloatingFrameInertia::inertial_force_rows(const RowSelection& rows, const Eigen::Vector3d& a,
                                                           const Eigen::Vector3d& al, const Eigen::Vector3d& w,
                                                           const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
-                                                          const Eigen::VectorXd& ddd) const {
+                                                          const Eigen::VectorXd& ddd, double damping) const {
   check(d, "d");
   check(dd, "dd");
   check(ddd, "ddd");
   if (rows.Mij_.cols() != num_dofs()) throw std::invalid_argument("inertial_force_rows: a selection of another body");
   const Eigen::Index m = static_cast<Eigen::Index>(rows.dofs_.size());
-  // forces()' Q = S1^T a + H(d)^T al + L_c dd'' + C^T c(w) + G_w(w) d + 2 G_y(w) dd' at the rows,
-  // from the row products P_k = (M_k d)_rows, R_k = (M_k dd')_rows (state_integrals()' formulas),
-  // each term a weighted sum over k = 3 i + j: H(d)^T al = sum_k h_k (C_k^T - P_k) with h_(3j+l) =
-  // al_i, h_(3l+j) = -al_i ((i, j, l) cyclic); G_w(w) d = sum_k c_k P_k (c symmetric); G_y(w) dd' =
-  // sum_k g_k R_k with g_(3i+l) = w_j, g_(3i+j) = -w_l.
+  // forces()' Q = S1^T a + H(d)^T al + L_c (dd'' + damping dd') + C^T c(w) + G_w(w) d +
+  // 2 G_y(w) dd' at the rows, from the row products P_k = (M_k d)_rows, R_k = (M_k dd')_rows
+  // (state_integrals()' formulas), each term a weighted sum over k = 3 i + j: H(d)^T al =
+  // sum_k h_k (C_k^T - P_k) with h_(3j+l) = al_i, h_(3l+j) = -al_i ((i, j, l) cyclic); G_w(w) d =
+  // sum_k c_k P_k (c symmetric); G_y(w) dd' = sum_k g_k R_k with g_(3i+l) = w_j, g_(3i+j) = -w_l.
   Eigen::VectorXd P(9 * m), R(9 * m), Q(m);
   rows_product<2, false>(rows.Mij_, {d.data(), dd.data()}, {P.data(), R.data()});
-  rows_product<1, false>(rows.M_, {ddd.data()}, {Q.data()});
+  if (damping != 0.0) {  // L_c (dd'' + alpha_M dd'): the damping force with the inertial term
+    const Eigen::VectorXd x = ddd + damping * dd;
+    rows_product<1, false>(rows.M_, {x.data()}, {Q.data()});
+  } else {
+    rows_product<1, false>(rows.M_, {ddd.data()}, {Q.data()});
+  }
   const Eigen::Matrix<double, 9, 1> c = centrifugal_weights(w);
   Eigen::Matrix<double, 9, 1> h = Eigen::Matrix<double, 9, 1>::Zero(), g = Eigen::Matrix<double, 9, 1>::Zero();
   for (int i = 0; i < 3; ++i) {

@@ -29,8 +29,11 @@ Vector6<double> inertial_wrench(const Model& m, Data& d, int k, Eigen::VectorXd*
   Vector6<double> f = b.rigid.inertial_forces(C.a, C.al, C.w);
   if (b.panel) {
     const PanelState& s = d.elastic[static_cast<std::size_t>(k)];
+    // Q with the panel's mass-proportional damping alpha_M L_c d' (one product with the inertial
+    // L_c d''; FlexibleBody::add_elastic_force adds the rest of the elastic force).
     const auto fe = b.panel->inertia().inertial_forces(C.a, C.al, C.w, s.d, s.dd, s.ddd,
-                                                       &d.panels[static_cast<std::size_t>(k)].products);
+                                                       &d.panels[static_cast<std::size_t>(k)].products,
+                                                       Q ? b.panel->spec().alpha_M : 0.0);
     f.head<3>() += fe.F;
     f.tail<3>() += fe.M;
     if (Q) *Q = fe.Q;

@@ -25,7 +25,8 @@ Vector6<double> base_inertial_wrench(const Model& m, const Data& d);
 /// Body k's inertial wrench at its staged motion (force; moment about C's origin; C axes): its
 /// rigid parts' Newton-Euler forces plus, for a panel, the floating-frame forces
 /// (docs/engine-design.md, "Body-level equations"); `Q` (if not null) gets the panel's
-/// generalized inertial force on its inertia's dofs.
+/// generalized inertial force on its inertia's dofs, with the panel's mass-proportional damping
+/// alpha_M L_c d' (the residual's; FlexibleBody::add_elastic_force leaves it out).
 Vector6<double> inertial_wrench(const Model& m, Data& d, int k, Eigen::VectorXd* Q);
 
 }  // namespace deployfx::multibody
