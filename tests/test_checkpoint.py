@@ -88,9 +88,10 @@ def test_resume_with_error_controlled_steps(model):
 def test_resume_a_sparse_green_strain_mesh(tolerance):
     """A 4 x 3 nonlinear mesh (its elastic block sparse, unlike 2 x 1's): Newton relaxes the
     membrane after every kept-matrix iteration, reading the in-plane rows formed alone where the
-    slaved block for the step size is at hand, and forms a new step size's block from the kept
-    matrix (every step of an error-controlled run has its own size): all of it is a function of
-    the state a checkpoint restores."""
+    slaved block for the step size is at hand, keeps that block over the factorizations at its
+    step size, and forms a new step size's block from the kept matrix (every step of an
+    error-controlled run has its own size): all of it is a function of the state a checkpoint
+    restores (the slaved block's source matrix among it)."""
     check_resumes(scene("nonlinear", nx=4, ny=3), tolerance=tolerance)
 
 

@@ -69,15 +69,21 @@ void GeneralizedAlpha::restore(const Solver& state) {
   full_steps_ = state.full_steps;
   refreshes_ = state.elastic_refreshes;
   factor_h_ = -1;
+  // The slaved block as it was (factorized when a sweep first needs it).
+  slaved_h_ = -1;
+  slaved_block_.reset();
+  if (!slaved_.empty() && state.slaved_h > 0) {
+    if (state.slaved_block.E.rows() != static_cast<Eigen::Index>(slaved_.size()))
+      throw std::invalid_argument("a checkpoint's slaved block does not fit this system");
+    slaved_block_.restore(state.slaved_block);
+    slaved_h_ = state.slaved_h;
+  }
   if (!(state.h > 0)) return;
   matrix_ = state.S;
   if (!solver_.factorize(matrix_)) throw StepFailure("a checkpoint's iteration matrix is singular");
   momentum_jacobian_ = state.momentum_jacobian;
   if (const int nc = sys_.num_conserved()) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
   factor_h_ = state.h;
-  // After an accepted step the slaved block is the last factorization's (step(): a block formed at
-  // a predictor for another step size is replaced when that step refactorizes).
-  if (!slaved_.empty()) slaved_block_.set(matrix_, slaved_), slaved_h_ = state.h;
 }
 
 int GeneralizedAlpha::step(AlphaState& s, double h, const Eigen::VectorXd* guess) {
@@ -285,7 +291,10 @@ bool GeneralizedAlpha::factorize_at(const Iterate& x, double t1, double h, bool 
     refreshes_ = 0;
   }
   if (!solver_.factorize(matrix_)) return false;
-  if (!slaved_.empty()) slaved_block_.set(matrix_, slaved_), slaved_h_ = h;
+  // The slaved block (slaved_block_'s comment): a dense matrix's every time, a sparse one's at a
+  // new step size.
+  if (!slaved_.empty() && (solver_.dense() || slaved_block_.empty() || !(std::abs(slaved_h_ - h) <= newton_.step_reuse * h)))
+    slaved_block_.set(matrix_, slaved_), slaved_h_ = h;
   if (nc && whole) momentum_lu_.compute(momentum_jacobian_.leftCols(nc));
   factor_h_ = h;
   return true;

@@ -167,15 +167,21 @@ class GeneralizedAlpha {
   long factorizations() const { return solver_.factorizations(); }
   /// The solver state a run carries between steps, for a checkpoint: the iteration matrix last
   /// factorized, as built or refreshed (S, its step size h, -1: none; with conserved momenta the
-  /// last whole matrix's momentum rows' Jacobian) and the reuse policy's counters.
+  /// last whole matrix's momentum rows' Jacobian), the reuse policy's counters, and the slaved
+  /// block (SlavedBlock::values) with its step size (-1: none).
   struct Solver {
     BlockMatrix S;
     double h = -1;
     Eigen::MatrixXd momentum_jacobian;
     int full_steps = 0;
     int elastic_refreshes = 0;
+    BlockMatrix slaved_block;
+    double slaved_h = -1;
   };
-  Solver solver_state() const { return {matrix_, factor_h_, momentum_jacobian_, full_steps_, refreshes_}; }
+  Solver solver_state() const {
+    return {matrix_, factor_h_, momentum_jacobian_, full_steps_, refreshes_,
+            slaved_h_ > 0 ? slaved_block_.values() : BlockMatrix(), slaved_h_ > 0 ? slaved_h_ : -1.0};
+  }
   /// Resumes from solver_state(): S factorized afresh, so the run goes on bit for bit as the one
   /// that saved it (a factorization is a function of S). Throws StepFailure if S is singular.
   void restore(const Solver& state);
@@ -206,10 +212,14 @@ class GeneralizedAlpha {
   BorderedSolver solver_;
   double factor_h_ = -1;
   // The system's slaved coordinates (SecondOrderSystem::slaved_velocities), and their block of the
-  // iteration matrix with the step size it is for: the last factorization's (set with it), or one
-  // formed at a predictor when the step size changed (the step then factorizes its own: kept for
-  // Newton instead, the matrix of the unrelaxed predictor, whose membrane misfit is what the
-  // sweeps remove, served it worse; docs/performance-history.md, session 27).
+  // iteration matrix with the step size it is for. With a dense matrix, the last factorization's
+  // (set with it: a reduced panel's block costs next to nothing). With a sparse one (a mesh), the first
+  // factorization's at its step size, kept while the steps keep that size (its values, M, K and
+  // small in-plane geometric terms, change little: refactorizing it with every Newton matrix cost
+  // 3 % of the paper's nonlinear run for 0.2 % fewer iterations; docs/performance-history.md,
+  // session 29), or one formed at a predictor when the step size changed (the step then
+  // factorizes its own: kept for Newton instead, the matrix of the unrelaxed predictor, whose
+  // membrane misfit is what the sweeps remove, served it worse; session 27).
   std::vector<int> slaved_;
   SlavedBlock slaved_block_;
   double slaved_h_ = -1;

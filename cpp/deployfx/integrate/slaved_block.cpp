@@ -10,7 +10,22 @@ namespace {
 // less than the sparse one's analysis and supernodes.
 constexpr int kDenseSize = 128;
 constexpr double kDenseFill = 0.25;
+bool dense_block(const Eigen::SparseMatrix<double>& E) {
+  const double m = static_cast<double>(E.rows());
+  return m <= kDenseSize || static_cast<double>(E.nonZeros()) >= kDenseFill * m * m;
+}
 }  // namespace
+
+void SlavedBlock::restore(const BlockMatrix& block) {
+  if (block.border() != 0 || block.B.rows() != 0 || block.C.cols() != 0 || block.E.rows() != block.E.cols() ||
+      !block.E.isCompressed())
+    throw std::invalid_argument("SlavedBlock::restore: a square, compressed block without border expected");
+  block_ = block;
+  dense_ = dense_block(block_.E);
+  idx_.clear();  // the next set() analyses its matrix's pattern
+  border_ = -1;
+  state_ = State::kSet;
+}
 
 void SlavedBlock::analyze(const BlockMatrix& S, const std::vector<int>& idx) {
   if (!S.E.isCompressed()) throw std::logic_error("SlavedBlock: the elastic block must be compressed");
@@ -50,7 +65,7 @@ void SlavedBlock::analyze(const BlockMatrix& S, const std::vector<int>& idx) {
   block_.A.resize(0, 0);
   block_.B.resize(0, m);
   block_.C.resize(m, 0);
-  dense_ = m <= kDenseSize || static_cast<double>(E.nonZeros()) >= kDenseFill * m * static_cast<double>(m);
+  dense_ = dense_block(E);
   idx_ = idx;
   border_ = nb;
   elastic_ = S.elastic();

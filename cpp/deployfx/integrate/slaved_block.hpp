@@ -28,6 +28,11 @@ class SlavedBlock {
   void set(const BlockMatrix& S, const std::vector<int>& idx);
   bool empty() const { return state_ == State::kEmpty; }
   void reset() { state_ = State::kEmpty; }
+  /// S(idx, idx) as last set (the elastic block of a matrix without border; empty if none).
+  BlockMatrix values() const { return empty() ? BlockMatrix() : block_; }
+  /// Sets the block to `block` (values() of another run's: a checkpoint's), to be factorized on
+  /// first use; std::invalid_argument unless it is square, compressed and without border.
+  void restore(const BlockMatrix& block);
   /// d = S(idx, idx)^-1 r (a large sparse block's skew part dropped: above); false (d untouched)
   /// if the block is empty or singular.
   bool solve(const Eigen::VectorXd& r, Eigen::VectorXd* d);

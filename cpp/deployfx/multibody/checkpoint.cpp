@@ -53,13 +53,20 @@ void check_checkpoint(const Model& m, const Checkpoint& c) {
         (nc > 0 && (sv.momentum_jacobian.rows() != nc || sv.momentum_jacobian.cols() != nv)))
       fail("its Newton matrix does not fit this model");
   }
+  if (sv.slaved_h > 0) {
+    Eigen::Index slaved = 0;  // the model's slaved coordinates (TreeSystem::slaved_velocities)
+    for (int k : m.panels()) slaved += static_cast<Eigen::Index>(m.body(k).panel->in_plane_coordinates().size());
+    const Eigen::SparseMatrix<double>& E = sv.slaved_block.E;
+    if (E.rows() != slaved || E.cols() != slaved || !E.isCompressed())
+      fail("its slaved block does not fit this model");
+  }
 }
 
 // The binary image: a magic word and version, then every field in a fixed order, numbers in this
 // machine's representation (a checkpoint resumes on the machine kind that wrote it).
 namespace {
 
-constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '4'};
+constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '5'};  // 5: the slaved block's source (session 29)
 
 struct Writer {
   std::string out;
@@ -177,6 +184,7 @@ std::string Checkpoint::to_bytes() const {
   w.put(static_cast<std::int32_t>(solver.full_steps)), w.put(static_cast<std::int32_t>(solver.elastic_refreshes));
   w.put(solver.h);
   w.put(solver.S.A), w.put(solver.S.B), w.put(solver.S.C), w.put(solver.S.E), w.put(solver.momentum_jacobian);
+  w.put(solver.slaved_h), w.put(solver.slaved_block.E);
   w.put(static_cast<std::int64_t>(locks.size()));
   for (const joint::LockState& L : locks) {
     w.put(static_cast<std::int32_t>(L.index()));
@@ -223,6 +231,9 @@ Checkpoint Checkpoint::from_bytes(const std::string& bytes) {
   solver.elastic_refreshes = refreshes;
   r.get(solver.h);
   r.get(solver.S.A), r.get(solver.S.B), r.get(solver.S.C), r.get(solver.S.E), r.get(solver.momentum_jacobian);
+  r.get(solver.slaved_h), r.get(solver.slaved_block.E);
+  const Eigen::Index slaved = solver.slaved_block.E.rows();
+  solver.slaved_block.A.resize(0, 0), solver.slaved_block.B.resize(0, slaved), solver.slaved_block.C.resize(slaved, 0);
   c.locks.resize(static_cast<std::size_t>(r.count()));
   for (joint::LockState& L : c.locks) {
     std::int32_t kind = 0;
