@@ -62,8 +62,19 @@ void define_body(py::module_& m) {
       .def("gyroscopic", &FloatingFrameInertia::gyroscopic, py::arg("w"))
       .def("inertial_forces",
            [](const FloatingFrameInertia& f, const Eigen::Vector3d& a, const Eigen::Vector3d& al, const Eigen::Vector3d& w,
-              const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd) {
-             return f.inertial_forces(a, al, w, d, dd, ddd);
+              const Eigen::VectorXd& d, const Eigen::VectorXd& dd, const Eigen::VectorXd& ddd, double damping) {
+             return f.inertial_forces(a, al, w, d, dd, ddd, nullptr, damping);
            },
-           py::arg("a"), py::arg("al"), py::arg("w"), py::arg("d"), py::arg("dd"), py::arg("ddd"));
+           py::arg("a"), py::arg("al"), py::arg("w"), py::arg("d"), py::arg("dd"), py::arg("ddd"),
+           py::arg("damping") = 0.0)
+      .def("inertial_force_rows",
+           [](const FloatingFrameInertia& f, const std::vector<int>& dofs, const Eigen::Vector3d& a,
+              const Eigen::Vector3d& al, const Eigen::Vector3d& w, const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
+              const Eigen::VectorXd& ddd, double damping) {
+             return f.inertial_force_rows(f.select_rows(dofs), a, al, w, d, dd, ddd, damping);
+           },
+           py::arg("dofs"), py::arg("a"), py::arg("al"), py::arg("w"), py::arg("d"), py::arg("dd"), py::arg("ddd"),
+           py::arg("damping") = 0.0,
+           "Q's entries at `dofs` alone, as inertial_forces forms them (the membrane sweeps' rows: by the "
+           "node graph for in-plane dofs of a mesh in the x-y plane, else by restricted sparse rows).");
 }

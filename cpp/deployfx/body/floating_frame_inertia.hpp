@@ -161,6 +161,10 @@ class FloatingFrameInertia {
    private:
     friend class FloatingFrameInertia;
     std::vector<int> dofs_;
+    // On a mesh with the node-graph form (NodeMass) and rows at in-plane dofs (u, v, theta_z: a
+    // flat panel's slaved rows), the row products come from the nodes' sums (node_row_products())
+    // and Mij_ is empty.
+    bool by_nodes_ = false;
     Eigen::SparseMatrix<double, Eigen::RowMajor> Mij_;  // rows dofs_ of M_0 .. M_8, stacked (9 m x ndof)
     Eigen::SparseMatrix<double, Eigen::RowMajor> M_;    // rows dofs_ of L_c (m x ndof)
     Matrix3X S1_;                                       // columns dofs_ of S1
@@ -234,6 +238,10 @@ class FloatingFrameInertia {
   // compute_products() by node_mass_ (floating_frame_products.cpp).
   template <int V>
   void node_products(const std::array<const Eigen::VectorXd*, V>& z, const std::array<Eigen::VectorXd*, V>& out) const;
+  // The row products (M_k d, M_k dd') at rows.dofs_ (in-plane dofs: RowSelection::by_nodes_) into
+  // P and R (9 m each, k-major), by node_mass_.
+  void node_row_products(const RowSelection& rows, const Eigen::VectorXd& d, const Eigen::VectorXd& dd,
+                         Eigen::VectorXd& P, Eigen::VectorXd& R) const;
   // c with centrifugal_load(w) = C^T c.
   static Eigen::Matrix<double, 9, 1> centrifugal_weights(const Eigen::Vector3d& w);
   // The nine M_k z[v] into out[v] (resized to 9 ndof), stacked, for V vectors at once.

@@ -49,6 +49,41 @@ void sparse_pass(const Eigen::SparseMatrix<double>& A, const std::array<const do
   }
 }
 
+#if defined(__GNUC__)
+#define DEPLOYFX_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define DEPLOYFX_ALWAYS_INLINE inline
+#endif
+
+// Node a's sums over its neighbours b on the node graph (m_0, m_1, m_2: the header's NodeMass, one
+// pattern) for V vectors z (t, r: z's translations and fibre rotations r = (theta_y, -theta_x, 0)
+// at b): s(0..2) = (m_0 t + m_1 r)(a), and with kMoments s(3..5) = (m_1 t + m_2 r)(a). Inlined
+// into its loops (a call per node cost the products 4 us on the paper's mesh).
+template <bool kMoments, int V>
+DEPLOYFX_ALWAYS_INLINE void node_sums(const Eigen::SparseMatrix<double, Eigen::RowMajor>* m, Eigen::Index a,
+                                      const std::array<const double*, V>& z,
+                                      std::array<Eigen::Matrix<double, 6, 1>, V>& s) {
+  const int* outer = m[0].outerIndexPtr();
+  const int* inner = m[0].innerIndexPtr();
+  const double *m0 = m[0].valuePtr(), *m1 = m[1].valuePtr(), *m2 = m[2].valuePtr();
+  for (int v = 0; v < V; ++v) s[v].setZero();
+  for (int p = outer[a]; p < outer[a + 1]; ++p) {
+    const Eigen::Index b = inner[p];
+    for (int v = 0; v < V; ++v) {
+      const double* zb = z[v] + kNodeDofs * b;
+      const double rx = zb[4], ry = -zb[3];
+      s[v](0) += m0[p] * zb[0] + m1[p] * rx;
+      s[v](1) += m0[p] * zb[1] + m1[p] * ry;
+      s[v](2) += m0[p] * zb[2];
+      if constexpr (kMoments) {
+        s[v](3) += m1[p] * zb[0] + m2[p] * rx;
+        s[v](4) += m1[p] * zb[1] + m2[p] * ry;
+        s[v](5) += m1[p] * zb[2];
+      }
+    }
+  }
+}
+
 }  // namespace
 
 template <int V>
@@ -113,29 +148,12 @@ FloatingFrameInertia::NodeMass FloatingFrameInertia::node_mass(const fem::ShellM
 template <int V>
 void FloatingFrameInertia::node_products(const std::array<const Eigen::VectorXd*, V>& z,
                                          const std::array<Eigen::VectorXd*, V>& out) const {
-  const Eigen::SparseMatrix<double, Eigen::RowMajor>* m = node_mass_.m.data();
-  const int* outer = m[0].outerIndexPtr();
-  const int* inner = m[0].innerIndexPtr();
-  const double *m0 = m[0].valuePtr(), *m1 = m[1].valuePtr(), *m2 = m[2].valuePtr();
   const Eigen::Index n = num_dofs();
-  for (int v = 0; v < V; ++v) out[v]->setZero();
-  for (Eigen::Index a = 0; a < m[0].rows(); ++a) {
-    // Per vector, (m_0 t + m_1 r, m_1 t + m_2 r) at node a; r_z = 0.
-    std::array<Eigen::Matrix<double, 6, 1>, V> s;
-    for (int v = 0; v < V; ++v) s[v].setZero();
-    for (int p = outer[a]; p < outer[a + 1]; ++p) {
-      const Eigen::Index b = inner[p];
-      for (int v = 0; v < V; ++v) {
-        const double* zb = z[v]->data() + kNodeDofs * b;
-        const double rx = zb[4], ry = -zb[3];
-        s[v](0) += m0[p] * zb[0] + m1[p] * rx;
-        s[v](1) += m0[p] * zb[1] + m1[p] * ry;
-        s[v](2) += m0[p] * zb[2];
-        s[v](3) += m1[p] * zb[0] + m2[p] * rx;
-        s[v](4) += m1[p] * zb[1] + m2[p] * ry;
-        s[v](5) += m1[p] * zb[2];
-      }
-    }
+  std::array<const double*, V> zv;
+  for (int v = 0; v < V; ++v) out[v]->setZero(), zv[v] = z[v]->data();
+  std::array<Eigen::Matrix<double, 6, 1>, V> s;
+  for (Eigen::Index a = 0; a < node_mass_.m[0].rows(); ++a) {
+    node_sums<true, V>(node_mass_.m.data(), a, zv, s);
     for (int v = 0; v < V; ++v) {
       double* P = out[v]->data();
       for (int i = 0; i < 3; ++i)
@@ -144,6 +162,27 @@ void FloatingFrameInertia::node_products(const std::array<const Eigen::VectorXd*
         P[(3 * 0 + j) * n + kNodeDofs * a + 4] = s[v](3 + j);   // theta_y: +r_x
         P[(3 * 1 + j) * n + kNodeDofs * a + 3] = -s[v](3 + j);  // theta_x: -r_y
       }
+    }
+  }
+}
+
+void FloatingFrameInertia::node_row_products(const RowSelection& rows, const Eigen::VectorXd& d,
+                                             const Eigen::VectorXd& dd, Eigen::VectorXd& P,
+                                             Eigen::VectorXd& R) const {
+  // The rows are in-plane dofs (select_rows()): at u (v) of node a, M_(c j) z is s_j(a) for c = x
+  // (y) and zero for the other components; at theta_z every M_k z is zero (node_products()).
+  const Eigen::Index m = static_cast<Eigen::Index>(rows.dofs_.size());
+  P.setZero(9 * m);
+  R.setZero(9 * m);
+  std::array<Eigen::Matrix<double, 6, 1>, 2> s;
+  int last = -1;  // the node whose sums s holds (a node's rows are adjacent in the selection)
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int a = rows.dofs_[i] / kNodeDofs, c = rows.dofs_[i] % kNodeDofs;
+    if (c > 1) continue;  // theta_z
+    if (a != last) node_sums<false, 2>(node_mass_.m.data(), a, {d.data(), dd.data()}, s), last = a;
+    for (int j = 0; j < 3; ++j) {
+      P((3 * c + j) * m + i) = s[0](j);
+      R((3 * c + j) * m + i) = s[1](j);
     }
   }
 }

@@ -1,6 +1,7 @@
 // FloatingFrameInertia's generalized inertial force Q at a few of its dofs alone (the header's
 // RowSelection): what a Newton sweep on a flat panel's in-plane rows reads
 // (multibody::slaved_rows), each product restricted to those rows.
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -21,10 +22,16 @@ FloatingFrameInertia::RowSelection FloatingFrameInertia::select_rows(const std::
   // Rows of a column-major matrix: its row-major copy's (the same entries, columns ascending).
   using RowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor>;
   std::vector<Eigen::Triplet<double>> t;
-  for (int k = 0; k < 9; ++k) append_rows(RowMajor(Mij_[k]), dofs, k * m, t);
-  out.Mij_.resize(9 * m, n);
-  out.Mij_.setFromTriplets(t.begin(), t.end());
-  t.clear();
+  out.by_nodes_ = !node_mass_.empty() && std::all_of(dofs.begin(), dofs.end(), [](int r) {
+    const int type = r % fem::kNodeDofs;
+    return type == 0 || type == 1 || type == 5;
+  });
+  if (!out.by_nodes_) {
+    for (int k = 0; k < 9; ++k) append_rows(RowMajor(Mij_[k]), dofs, k * m, t);
+    out.Mij_.resize(9 * m, n);
+    out.Mij_.setFromTriplets(t.begin(), t.end());
+    t.clear();
+  }
   append_rows(RowMajor(M_), dofs, 0, t);
   out.M_.resize(m, n);
   out.M_.setFromTriplets(t.begin(), t.end());
@@ -41,7 +48,8 @@ Eigen::VectorXd FloatingFrameInertia::inertial_force_rows(const RowSelection& ro
   check(d, "d");
   check(dd, "dd");
   check(ddd, "ddd");
-  if (rows.Mij_.cols() != num_dofs()) throw std::invalid_argument("inertial_force_rows: a selection of another body");
+  if (rows.M_.cols() != num_dofs() || (rows.by_nodes_ ? node_mass_.empty() : rows.Mij_.cols() != num_dofs()))
+    throw std::invalid_argument("inertial_force_rows: a selection of another body");
   const Eigen::Index m = static_cast<Eigen::Index>(rows.dofs_.size());
   // forces()' Q = S1^T a + H(d)^T al + L_c (dd'' + damping dd') + C^T c(w) + G_w(w) d +
   // 2 G_y(w) dd' at the rows, from the row products P_k = (M_k d)_rows, R_k = (M_k dd')_rows
@@ -49,7 +57,8 @@ Eigen::VectorXd FloatingFrameInertia::inertial_force_rows(const RowSelection& ro
   // sum_k h_k (C_k^T - P_k) with h_(3j+l) = al_i, h_(3l+j) = -al_i ((i, j, l) cyclic); G_w(w) d =
   // sum_k c_k P_k (c symmetric); G_y(w) dd' = sum_k g_k R_k with g_(3i+l) = w_j, g_(3i+j) = -w_l.
   Eigen::VectorXd P(9 * m), R(9 * m), Q(m);
-  rows_product<2, false>(rows.Mij_, {d.data(), dd.data()}, {P.data(), R.data()});
+  if (rows.by_nodes_) node_row_products(rows, d, dd, P, R);
+  else rows_product<2, false>(rows.Mij_, {d.data(), dd.data()}, {P.data(), R.data()});
   if (damping != 0.0) {  // L_c (dd'' + alpha_M dd'): the damping force with the inertial term
     const Eigen::VectorXd x = ddd + damping * dd;
     rows_product<1, false>(rows.M_, {x.data()}, {Q.data()});
