@@ -210,6 +210,7 @@ class FlexibleBody {
   // c_L L_c + sum_ij cm(i, j) M_ij on eta (manifold).
   Eigen::MatrixXd inertia_combination(double c_L, const Eigen::Matrix3d& cm) const;
   std::vector<int> free_;
+  std::vector<std::array<int, 2>> free_runs_;  // a mesh's: (first k, length) of consecutive free_
   std::vector<int> in_plane_;  // in_plane_coordinates()
   // A mesh panel's in-plane rows of Q (in_plane_force()).
   std::optional<FloatingFrameInertia::RowSelection> in_plane_rows_;

@@ -15,6 +15,7 @@
 // per neighbour against the nine sparse products' 25 (the paper's 15 x 10 panel: 1056 dofs).
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "deployfx/body/floating_frame_inertia.hpp"
@@ -55,10 +56,23 @@ void sparse_pass(const Eigen::SparseMatrix<double>& A, const std::array<const do
 #define DEPLOYFX_ALWAYS_INLINE inline
 #endif
 
+// x * y + acc in one rounding where the target has fused multiply-adds, else two: spelled out, so
+// that a sum's rounding does not depend on how the compiler contracts and vectorizes the loop it
+// is inlined into (node_sums: a run's memo hands out products formed for one vector or for two, and
+// a resumed run, whose memo starts empty, must get the same bits).
+inline double multiply_add(double x, double y, double acc) {
+#ifdef __FMA__
+  return std::fma(x, y, acc);
+#else
+  return x * y + acc;
+#endif
+}
+
 // Node a's sums over its neighbours b on the node graph (m_0, m_1, m_2: the header's NodeMass, one
 // pattern) for V vectors z (t, r: z's translations and fibre rotations r = (theta_y, -theta_x, 0)
-// at b): s(0..2) = (m_0 t + m_1 r)(a), and with kMoments s(3..5) = (m_1 t + m_2 r)(a). Inlined
-// into its loops (a call per node cost the products 4 us on the paper's mesh).
+// at b): s(0..2) = (m_0 t + m_1 r)(a), and with kMoments s(3..5) = (m_1 t + m_2 r)(a), each term
+// added in that order whatever V. Inlined into its loops (a call per node cost the products 4 us
+// on the paper's mesh).
 template <bool kMoments, int V>
 DEPLOYFX_ALWAYS_INLINE void node_sums(const Eigen::SparseMatrix<double, Eigen::RowMajor>* m, Eigen::Index a,
                                       const std::array<const double*, V>& z,
@@ -72,13 +86,13 @@ DEPLOYFX_ALWAYS_INLINE void node_sums(const Eigen::SparseMatrix<double, Eigen::R
     for (int v = 0; v < V; ++v) {
       const double* zb = z[v] + kNodeDofs * b;
       const double rx = zb[4], ry = -zb[3];
-      s[v](0) += m0[p] * zb[0] + m1[p] * rx;
-      s[v](1) += m0[p] * zb[1] + m1[p] * ry;
-      s[v](2) += m0[p] * zb[2];
+      s[v](0) = multiply_add(m1[p], rx, multiply_add(m0[p], zb[0], s[v](0)));
+      s[v](1) = multiply_add(m1[p], ry, multiply_add(m0[p], zb[1], s[v](1)));
+      s[v](2) = multiply_add(m0[p], zb[2], s[v](2));
       if constexpr (kMoments) {
-        s[v](3) += m1[p] * zb[0] + m2[p] * rx;
-        s[v](4) += m1[p] * zb[1] + m2[p] * ry;
-        s[v](5) += m1[p] * zb[2];
+        s[v](3) = multiply_add(m2[p], rx, multiply_add(m1[p], zb[0], s[v](3)));
+        s[v](4) = multiply_add(m2[p], ry, multiply_add(m1[p], zb[1], s[v](4)));
+        s[v](5) = multiply_add(m1[p], zb[2], s[v](5));
       }
     }
   }
@@ -150,19 +164,21 @@ void FloatingFrameInertia::node_products(const std::array<const Eigen::VectorXd*
                                          const std::array<Eigen::VectorXd*, V>& out) const {
   const Eigen::Index n = num_dofs();
   std::array<const double*, V> zv;
-  for (int v = 0; v < V; ++v) out[v]->setZero(), zv[v] = z[v]->data();
+  for (int v = 0; v < V; ++v) zv[v] = z[v]->data();
   std::array<Eigen::Matrix<double, 6, 1>, V> s;
   for (Eigen::Index a = 0; a < node_mass_.m[0].rows(); ++a) {
     node_sums<true, V>(node_mass_.m.data(), a, zv, s);
-    for (int v = 0; v < V; ++v) {
-      double* P = out[v]->data();
+    // Every entry of node a in each M_(ij) z written (no zeroing pass): s_j at translation i,
+    // +s_(3+j) at theta_y (i = x: +r_x), -s_(3+j) at theta_x (i = y: -r_y), zero elsewhere.
+    for (int v = 0; v < V; ++v)
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) P[(3 * i + j) * n + kNodeDofs * a + i] = s[v](j);
-      for (int j = 0; j < 3; ++j) {
-        P[(3 * 0 + j) * n + kNodeDofs * a + 4] = s[v](3 + j);   // theta_y: +r_x
-        P[(3 * 1 + j) * n + kNodeDofs * a + 3] = -s[v](3 + j);  // theta_x: -r_y
-      }
-    }
+        for (int j = 0; j < 3; ++j) {
+          double* P = out[v]->data() + (3 * i + j) * n + kNodeDofs * a;
+          for (int t = 0; t < kNodeDofs; ++t) P[t] = 0.0;
+          P[i] = s[v](j);
+          if (i == 0) P[4] = s[v](3 + j);
+          if (i == 1) P[3] = -s[v](3 + j);
+        }
   }
 }
 
