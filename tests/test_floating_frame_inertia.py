@@ -171,15 +171,20 @@ def test_kinetic_energy_matches_brute_force_integral(setup):
         assert T == pytest.approx(brute_force_kinetic_energy(lam, V, w, d, dd), rel=1e-11)
 
 
+def frame_and_elastic_motion(n, seed):
+    """A generic state: the frame's a, al, w and the dofs' d (5 cm scale), dd', dd''."""
+    rng = np.random.default_rng(seed)
+    a, al, w = rng.normal(size=3), rng.normal(size=3), rng.normal(size=3)
+    return a, al, w, 0.05 * rng.normal(size=n), rng.normal(size=n), rng.normal(size=n)
+
+
 def test_inertial_forces_match_brute_force_integrals(setup):
     # int rho A, int rho r x A and int rho N^T A for A = a + al x r + w x (w x r) + 2 w x u' + u''
     # (rigid-body kinematics of the floating frame plus elastic motion; Shabana 2013 Eq. 5.40),
     # by the independent quadrature: 1e-10 relative. Drilling rates/accelerations are zero.
     lam, plate, ffi = setup
-    rng = np.random.default_rng(11)
     n = plate.model.num_dofs
-    a, al, w = rng.normal(size=3), rng.normal(size=3), rng.normal(size=3)
-    d, dd, ddd = 0.05 * rng.normal(size=n), rng.normal(size=n), rng.normal(size=n)
+    a, al, w, d, dd, ddd = frame_and_elastic_motion(n, 11)
     dd[5::6] = 0.0
     ddd[5::6] = 0.0
     F, M, Q = np.zeros(3), np.zeros(3), np.zeros(n)
@@ -200,10 +205,7 @@ def test_mass_proportional_damping_joins_the_inertial_force(setup):
     # With damping alpha_M, Q gains alpha_M L_c dd' (the Rayleigh mass term, formed in one product
     # with L_c dd''; F and M unchanged): against the element mass matrix's product, 1e-13.
     _, plate, ffi = setup
-    rng = np.random.default_rng(12)
-    n = plate.model.num_dofs
-    a, al, w = rng.normal(size=3), rng.normal(size=3), rng.normal(size=3)
-    d, dd, ddd = 0.05 * rng.normal(size=n), rng.normal(size=n), rng.normal(size=n)
+    a, al, w, d, dd, ddd = frame_and_elastic_motion(plate.model.num_dofs, 12)
     f0 = ffi.inertial_forces(a, al, w, d, dd, ddd)
     f1 = ffi.inertial_forces(a, al, w, d, dd, ddd, damping=0.7)
     np.testing.assert_array_equal(f1.F, f0.F)
@@ -223,10 +225,8 @@ def test_inertial_force_rows_equal_the_whole_forces_rows(setup, mesh, rows):
     model = plate.model
     if mesh == "tilted":
         model, ffi = tilted_plate_inertia(lam)
-    rng = np.random.default_rng(13)
     n = model.num_dofs
-    a, al, w = rng.normal(size=3), rng.normal(size=3), rng.normal(size=3)
-    d, dd, ddd = 0.05 * rng.normal(size=n), rng.normal(size=n), rng.normal(size=n)
+    a, al, w, d, dd, ddd = frame_and_elastic_motion(n, 13)
     types = (0, 1, 5) if rows == "in-plane" else (2, 3, 4)
     dofs = [k for k in range(6, n) if k % 6 in types]  # node 0 left out
     Q = ffi.inertial_forces(a, al, w, d, dd, ddd, damping=0.4).Q[dofs]
