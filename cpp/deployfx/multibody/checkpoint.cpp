@@ -66,7 +66,7 @@ void check_checkpoint(const Model& m, const Checkpoint& c) {
 // machine's representation (a checkpoint resumes on the machine kind that wrote it).
 namespace {
 
-constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '5'};  // 5: the slaved block's source (session 29)
+constexpr char kMagic[8] = {'D', 'F', 'X', 'C', 'K', 'P', 'T', '5'};  // 5: with the slaved block (session 29)
 
 struct Writer {
   std::string out;
