@@ -152,8 +152,9 @@ class FloatingFrameInertia {
 
   /// The generalized inertial force Q of inertial_forces() at a few of its dofs alone (a Newton
   /// sweep on a flat panel's in-plane rows needs no other: multibody::slaved_rows): each product
-  /// with M_ij and L_c restricted to those rows, by rows (math/sparse_rows.hpp). Immutable, formed
-  /// once per model by select_rows() on a mesh.
+  /// with M_ij and L_c restricted to those rows, by rows (math/sparse_rows.hpp), the M_ij's from
+  /// the node graph's sums where the mesh and the rows allow (by_nodes_). Immutable, formed once
+  /// per model by select_rows() on a mesh.
   class RowSelection {
    public:
     const std::vector<int>& dofs() const { return dofs_; }
