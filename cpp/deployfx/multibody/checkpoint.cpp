@@ -9,6 +9,7 @@
 #include <Eigen/SparseCore>
 
 #include "deployfx/multibody/data.hpp"
+#include "deployfx/multibody/residual.hpp"
 
 namespace deployfx::multibody {
 
@@ -54,8 +55,7 @@ void check_checkpoint(const Model& m, const Checkpoint& c) {
       fail("its Newton matrix does not fit this model");
   }
   if (sv.slaved_h > 0) {
-    Eigen::Index slaved = 0;  // the model's slaved coordinates (TreeSystem::slaved_velocities)
-    for (int k : m.panels()) slaved += static_cast<Eigen::Index>(m.body(k).panel->in_plane_coordinates().size());
+    const auto slaved = static_cast<Eigen::Index>(slaved_velocities(m).size());
     const Eigen::SparseMatrix<double>& E = sv.slaved_block.E;
     if (E.rows() != slaved || E.cols() != slaved || !E.isCompressed())
       fail("its slaved block does not fit this model");

@@ -41,6 +41,13 @@ Eigen::VectorXd residual(const Model& m, Data& d, const Eigen::VectorXd& q, cons
   return r;
 }
 
+std::vector<int> slaved_velocities(const Model& m) {
+  std::vector<int> out;
+  for (const int k : m.panels())
+    for (const int i : m.body(k).panel->in_plane_coordinates()) out.push_back(m.body(k).iv_el + i);
+  return out;
+}
+
 bool slaved_rows(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                  const Eigen::VectorXd& a, double t, Eigen::VectorXd& rows) {
   Eigen::Index count = 0;

@@ -9,6 +9,7 @@
 //   panel k:      Q_k + sum_{hinges c on k} P_c^T tau_z,c + f_int,k(eta_k) + damping
 //                 (the attachments' generalized forces, attachment.hpp).
 #include <Eigen/Core>
+#include <vector>
 
 #include "deployfx/multibody/data.hpp"
 
@@ -18,8 +19,11 @@ namespace deployfx::multibody {
 Eigen::VectorXd residual(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                          const Eigen::VectorXd& a, double t);
 
-/// r's rows at the panels' in-plane coordinates alone (TreeSystem::slaved_velocities(), in that
-/// order) into `rows`, for about half a residual's work where every such panel is a mesh with
+/// The panels' in-plane (slaved) coordinates' velocity indices, panel by panel
+/// (body::FlexibleBody::in_plane_coordinates; TreeSystem::slaved_velocities()).
+std::vector<int> slaved_velocities(const Model& m);
+
+/// r's rows at the panels' in-plane coordinates alone (slaved_velocities(), in that order) into `rows`, for about half a residual's work where every such panel is a mesh with
 /// Green strain (body::FlexibleBody::in_plane_force) and no hinge rides on it (the attachments'
 /// forces, which act on its rows, come from the subtree's whole backward pass). False (rows
 /// untouched) otherwise: the caller then takes the whole residual. Stages the kinematics in d.

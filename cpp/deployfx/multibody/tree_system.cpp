@@ -65,11 +65,6 @@ bool TreeSystem::slaved_residual(const Eigen::VectorXd& q, const Eigen::VectorXd
   return multibody::slaved_rows(m_, d_, q, v, a, t, rows);
 }
 
-std::vector<int> TreeSystem::slaved_velocities() const {
-  std::vector<int> out;
-  for (const int k : m_.panels())
-    for (const int i : m_.body(k).panel->in_plane_coordinates()) out.push_back(m_.body(k).iv_el + i);
-  return out;
-}
+std::vector<int> TreeSystem::slaved_velocities() const { return multibody::slaved_velocities(m_); }
 
 }  // namespace deployfx::multibody
