@@ -129,7 +129,7 @@ void ShellBatch::add_batch(const Batch& b, const Eigen::VectorXd& u, Eigen::Vect
     for (int a = 0; a < 4; ++a) F[t][a].setZero();
   for (const GaussPoint& g : b.gp) {
     const Strains st = strains(g, b, X);
-    const Lane *px = st.px, *py = st.py, *eps = st.eps, *kap = st.kap, *N = st.N;
+    const Lane *px = st.px, *py = st.py, *N = st.N;
     const Lane& w = g.weight;
     const Lane drill = w * b.drill * drill_strain(g, X);
     const Lane gx[3] = {px[0] + 1.0, px[1], px[2]}, gy[3] = {py[0], py[1] + 1.0, py[2]};
