@@ -30,6 +30,7 @@ import numpy as np  # noqa: E402
 
 import deployfx as dfx  # noqa: E402
 from deployfx import _core  # noqa: E402
+from machine import describe  # noqa: E402
 
 
 def min_time(f, repeat: int) -> float:
@@ -93,7 +94,7 @@ def main() -> None:
     t_gemv = min_time(lambda: B @ x, args.repeat)
 
     print(f"paper2016 lay-up 2 appendage, {args.nx} x {args.ny} elements, {shell.num_dofs} dofs; "
-          f"reduced basis of {r} vectors ({args.modes} modes); core built for {_core.simd}; "
+          f"reduced basis of {r} vectors ({args.modes} modes); {describe()}; "
           f"minimum of up to {args.repeat} calls")
     print(f"{'kernel':58s} {'time (us)':>10s} {'vs baseline':>12s}")
     rows = [

@@ -35,6 +35,7 @@ import scipy.sparse.linalg
 
 import deployfx as dfx
 from deployfx.integrators import SimulationError
+from machine import describe
 
 MODELS = ("rigid", "reduced-linear", "reduced-nonlinear", "reduced-manifold", "linear", "nonlinear")
 MODES = 10  # the reduced models' clamped modes (issue 6's target case)
@@ -92,7 +93,7 @@ def main() -> None:
     models = ["rigid"] + [m for m in args.models if m != "rigid"]  # the baseline runs first
 
     print(f"paper2016 lay-up 2, t_end = {t_end:g} s, dt = {args.dt:g} s, generalized-alpha rho_inf = 0.8; "
-          f"core built for {dfx._core.simd}")
+          f"{describe()}")
     head = (f"{'model':17s} {'mesh':>6s} {'dofs':>5s} {'setup (s)':>9s} {'wall (s)':>9s} {'s/sim s':>8s} {'ms/step':>8s} "
             f"{'newton/step':>11s} {'fact/step':>9s} {'vs rigid':>9s} {'vs floor':>9s} {'lock (s)':>8s}")
     print(head)

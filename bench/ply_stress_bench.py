@@ -25,7 +25,8 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import deployfx as dfx  # noqa: E402
-from deployfx import _core, stress  # noqa: E402
+from deployfx import stress  # noqa: E402
+from machine import describe  # noqa: E402
 
 # Placeholders that exercise every criterion; not a material's allowables.
 PLACEHOLDER = dfx.Strengths(Xt=1.0e9, Xc=1.0e9, Yt=5.0e7, Yc=2.0e8, S12=7.0e7, S23=6.0e7)
@@ -124,7 +125,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--no-run", action="store_true", help="skip the paper run")
     args = ap.parse_args()
-    print(f"deployfx core: {_core.simd}; {args.samples} samples per series")
+    print(f"{describe()}; {args.samples} samples per series")
     timing_rows(args.samples, args.repeat)
     if not args.no_run:
         run_row()

@@ -44,8 +44,8 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-import deployfx as dfx
 from deployfx import _core
+from machine import describe
 from newton_profile import RHO, profile
 
 #: s of CPU time, for the 30 s scene (issue 27).
@@ -89,7 +89,7 @@ def main() -> None:
     nx, ny = (int(x) for x in args.mesh.lower().split("x"))
     print(f"paper2016 lay-up 2, {args.mesh}, t_end = {args.t_end:g} s, dt = {args.dt:g} s, "
           f"generalized-alpha rho_inf = {RHO}; evaluations at t = {args.t_eval:g} s; CPU time of one "
-          f"core (time.process_time); core built for {dfx._core.simd}")
+          f"core (time.process_time); {describe()}")
     print(f"{'model':18s} {'target s':>8s} {'cpu s':>8s} {'substeps':>8s} {'it/step':>7s} "
           f"{'res ms':>8s} {'solve ms':>8s} {'exact ms':>8s} {'fact ms':>8s} {'floor 1 it s':>12s} "
           f"{'floor 2 it s':>12s} {'cpu/floor1':>10s} {'target/floor1':>13s} solver")

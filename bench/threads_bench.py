@@ -21,6 +21,7 @@ import time
 import numpy as np
 
 import deployfx as dfx
+from machine import describe
 
 
 def serial(model, t_end: float, dt: float) -> tuple[float, list]:
@@ -54,7 +55,7 @@ def main() -> None:
     args = ap.parse_args()
     nx, ny = (int(x) for x in args.mesh.lower().split("x"))
     print(f"paper2016 lay-up 2, {nx}x{ny}, t_end = {args.t_end:g} s, dt = {args.dt:g} s; two runs of one model; "
-          f"core built for {dfx._core.simd}")
+          f"{describe()}")
     print(f"{'model':18s} {'serial (s)':>10s} {'2 threads (s)':>13s} {'parallel/serial':>15s} {'same bits':>9s}")
     for name in args.models:
         model = dfx.scenes.paper2016(2, name, nx=nx, ny=ny).model

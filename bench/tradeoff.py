@@ -81,6 +81,7 @@ import deployfx as dfx
 from deployfx.integrators import HHT, GeneralizedAlpha, Newmark
 from deployfx.tradeoff import Case, scheme_label
 from deployfx.tradeoff_report import SHORT, plot_work_precision, to_markdown, to_text, write_csv
+from machine import describe
 
 SWEEPS = ("fidelity", "mesh", "dt", "integrator", "adaptive")
 MESHES = ("4x3", "6x4", "10x7", "15x10", "20x13", "30x20")
@@ -200,7 +201,7 @@ def main() -> None:
 
     print(f"paper2016 lay-up {args.layup}, {args.lock_geometry} lock, t_end = {args.t_end:g} s; sweeps "
           f"{' '.join(args.sweeps)}; base {base_mesh}, dt {args.base_dt:g} s, GA(0.8); "
-          f"reference {ref.name}; {len(cases)} cases; core built for {dfx._core.simd}")
+          f"reference {ref.name}; {len(cases)} cases; {describe()}")
     start = time.perf_counter()
     reference = saved_reference(args, ref) or ref
 
