@@ -59,7 +59,7 @@ void define_integrate(py::module_& m) {
           X.col(0) = x;
           for (int k = 0; k < iterations; ++k) {
             const Eigen::VectorXd f = G * x + c - x;
-            x = mixing.next(x, f);
+            mixing.update(x, f);
             X.col(k + 1) = x;
           }
           return X;

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "deployfx/integrate/anderson.hpp"
 #include "deployfx/integrate/bordered_solver.hpp"
 #include "deployfx/integrate/second_order_system.hpp"
 #include "deployfx/integrate/slaved_block.hpp"
@@ -114,11 +115,15 @@ struct NewtonOptions {
   /// With a sparse matrix, relax the slaved rows (relax_slaved) after every iteration, not only
   /// at the predictor: see GeneralizedAlpha::relax_slaved.
   bool relax_every_iteration = true;
-  /// With a sparse matrix, the kept matrix's iterations within a step are Anderson-accelerated
-  /// over this many past increments (integrate/anderson.hpp; 0: plain modified Newton). Measured
-  /// on the paper's 30 s scene, 15 x 10 (docs/performance-history.md, session 22): depth 2 takes
-  /// the nonlinear model's factorizations from 2380 to 2160 and its CPU by 3-5 %, the linear
-  /// model's by 9 %; for a dense matrix it does not pay (reduced-linear +4 %, the others equal).
+  /// The kept matrix's iterations within a step are Anderson-accelerated over this many past
+  /// increments (integrate/anderson.hpp; 0: plain modified Newton). Measured on the paper's 30 s
+  /// scene, 15 x 10 (docs/performance-history.md, sessions 22 and 30): depth 2 takes the
+  /// nonlinear model's factorizations from 2380 to 2160 and its CPU by 3-5 %, the linear model's
+  /// by 9 %; on a dense (reduced) matrix 10-12 % of the iterations, which paid once the mixing
+  /// stopped allocating (session 30, instructions counted: reduced-manifold and reduced-linear
+  /// -5 %, rigid +2.4 %, a millisecond). Not for a dense matrix with slaved coordinates (the
+  /// reduced Green-strain panel, in full Newton whenever its kept matrix is slow: 1 % fewer
+  /// iterations, 0.3 % more instructions).
   int anderson_depth = 2;
 };
 
@@ -236,6 +241,10 @@ class GeneralizedAlpha {
   // (NewtonOptions::elastic_refreshes): what a refresh updates and a checkpoint saves
   // (solver_state); unused while factor_h_ < 0 (it may then be one that failed to factorize).
   BlockMatrix matrix_;
+  // A kept matrix's Anderson mixing within a step (NewtonOptions::anderson_depth) and its iterate
+  // and increment: history reset at each step's start, storage kept (not checkpoint state).
+  AndersonMixing mixing_;
+  Eigen::VectorXd mixed_x_, mixed_f_;
 };
 
 }  // namespace deployfx::integrate
