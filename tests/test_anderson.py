@@ -60,6 +60,22 @@ def test_short_memory_removes_a_dominant_slow_mode():
     assert mixed[12] < 1e-9
 
 
+def test_parallel_increments_reach_the_fixed_point_and_stay_there():
+    # G = g I: every increment f = (g - 1)(x - x*) is parallel to the last, so the history's
+    # differences span one direction (dF of rank 1 once it holds two columns). One difference
+    # makes the step exact: the Krylov space of a multiple of I has dimension 1, so GMRES (Walker
+    # & Ni's Theorem 2.2) ends at x_2 = x*; the later iterates, mixed over the rank-deficient
+    # history, must stay finite and at x*.
+    n = 8
+    rng = np.random.default_rng(7)
+    G, c = 0.6 * np.eye(n), rng.normal(size=n)
+    x_star = np.linalg.solve(np.eye(n) - G, c)
+    X = _core.anderson_fixed_point(G, c, np.zeros(n), 2, 6)
+    assert np.isfinite(X).all()
+    for k in range(2, 7):
+        assert np.abs(X[:, k] - x_star).max() <= 1e-12 * np.abs(x_star).max(), k
+
+
 def test_bad_arguments_are_refused():
     G, c, _ = linear_map(4, 0.5, 6)
     with pytest.raises(ValueError, match="depth"):

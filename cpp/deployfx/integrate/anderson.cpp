@@ -59,8 +59,11 @@ bool AndersonMixing::least_squares(int k, const Eigen::VectorXd& f) {
     double best = Q_.col(i).squaredNorm();
     for (int j = i + 1; j < k; ++j)
       if (const double s = Q_.col(j).squaredNorm(); s > best) best = s, p = j;
-    if (p != i) Q_.col(i).swap(Q_.col(p)), std::swap(perm_[static_cast<std::size_t>(i)], perm_[static_cast<std::size_t>(p)]),
-                R_.col(i).head(i).swap(R_.col(p).head(i));
+    if (p != i) {  // the column and its coefficients so far trade places with column i
+      Q_.col(i).swap(Q_.col(p));
+      R_.col(i).head(i).swap(R_.col(p).head(i));
+      std::swap(perm_[static_cast<std::size_t>(i)], perm_[static_cast<std::size_t>(p)]);
+    }
     const double rii = std::sqrt(best);
     if (i == 0) first = rii;
     if (!(rii > threshold * first)) break;  // also a zero or non-finite first column

@@ -121,7 +121,7 @@ struct NewtonOptions {
   /// nonlinear model's factorizations from 2380 to 2160 and its CPU by 3-5 %, the linear model's
   /// by 9 %; on a dense (reduced) matrix 10-12 % of the iterations, which paid once the mixing
   /// stopped allocating (session 30, instructions counted: reduced-manifold and reduced-linear
-  /// -5 %, rigid +2.4 %, a millisecond). Not for a dense matrix with slaved coordinates (the
+  /// -6 %, rigid +2.7 %, a millisecond). Not for a dense matrix with slaved coordinates (the
   /// reduced Green-strain panel, in full Newton whenever its kept matrix is slow: 1 % fewer
   /// iterations, 0.3 % more instructions).
   int anderson_depth = 2;
