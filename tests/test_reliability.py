@@ -25,7 +25,7 @@ def _dense_frequencies(plate, boundary):
     diag(M)^-1/2 (rotary inertia is ~1e-6 of the translational mass). Each eigenvalue is then the
     Rayleigh quotient x^T K x / x^T M x of its eigenvector, whose error is quadratic in the vector's:
     LAPACK's own eigenvalues carry ~eps lambda_max / lambda ~ 1e-5 relative here, and which 1e-5
-    depends on the BLAS kernels of the machine (1.2e-5 on an AMD EPYC, under 1e-5 on Intel)."""
+    depends on the machine's BLAS kernels (1.2e-5 on an AMD EPYC, below 1e-5 on earlier machines)."""
     fixed = set(plate.fixed_dofs(boundary).tolist())
     keep = [d for d in range(plate.model.num_dofs) if d not in fixed]
     K = plate.model.stiffness_matrix().toarray()[np.ix_(keep, keep)]
