@@ -100,6 +100,23 @@ def test_dense_elastic_block_takes_the_dense_lu():
     assert np.abs(x - x_ref).max() <= 1e-12 * np.abs(x_ref).max()
 
 
+def test_dense_lu_every_size_and_residue():
+    # math/dense_lu takes two pivot columns at a time over columns padded to chunks of four rows:
+    # every size up to DenseLU::kUnblocked (odd and even counts of pivots, every residue of the
+    # rows modulo the chunk), with zero diagonals (a row exchange at every column), keeps the
+    # backward error |S x - r| / (|S| |x|) at round-off (Higham, Accuracy and Stability of
+    # Numerical Algorithms, 2002, Sec. 9.3).
+    rng = np.random.default_rng(5)
+    for m in range(3, 66):  # E, (m - 1) x (m - 1), half full or more: the dense path
+        M = rng.normal(size=(m, m))
+        np.fill_diagonal(M, 0.0)
+        r = rng.normal(size=m)
+        x, method = _core.bordered_solve(M[:1, :1], M[:1, 1:], M[1:, :1], sp.csc_matrix(M[1:, 1:]), r)
+        assert method == "dense-lu"
+        backward = np.abs(M @ x - r).max() / (np.abs(M).sum(axis=1).max() * np.abs(x).max())
+        assert backward <= 10 * np.finfo(float).eps, m
+
+
 def test_dense_lu_pivots_across_the_border():
     # The dense path factorizes S whole, pivoting by rows across border and elastic block: S is
     # solved where E alone is singular (a Schur complement on the border would need E^-1) and

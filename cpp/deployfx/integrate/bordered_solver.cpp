@@ -132,8 +132,7 @@ bool BorderedSolver::factorize_exact(const SparseMatrix& E) {
 
 bool BorderedSolver::factorize_dense(const BlockMatrix& S) {
   // S whole, [A B; C E]: one LU with pivoting across border and elastic rows, no Schur complement.
-  Eigen::MatrixXd& lu = dense_lu_.lu();
-  lu.resize(nb_ + ne_, nb_ + ne_);  // the same size keeps the storage
+  auto lu = dense_lu_.matrix(nb_ + ne_);
   lu.topLeftCorner(nb_, nb_) = S.A;
   lu.topRightCorner(nb_, ne_) = S.B;
   lu.bottomLeftCorner(ne_, nb_) = S.C;

@@ -85,7 +85,7 @@ bool SlavedBlock::solve(const Eigen::VectorXd& r, Eigen::VectorXd* d) {
   if (state_ == State::kSet) {
     bool factorized = true;
     if (dense_) {
-      dense_lu_.lu() = block_.E;
+      dense_lu_.matrix(block_.E.rows()) = block_.E;
       factorized = dense_lu_.factorize();
     } else {
       factorized = sparse_.factorize(block_);
