@@ -34,7 +34,7 @@ bool DenseLU::pivot_column(Eigen::Index k) {
 
 bool DenseLU::factorize() {
   const Eigen::Index n = n_, ld = lu_.rows();
-  if (lu_.cols() != n || n == 0) return false;
+  if (lu_.cols() != n) return false;
   blocked_ = n > kUnblocked;
   if (blocked_) {
     blocked_lu_.compute(lu_.topRows(n));
@@ -58,21 +58,18 @@ bool DenseLU::factorize() {
     if (!pivot_column(k + 1)) return false;
     // The trailing columns j > k + 1 less both terms, a_ij - l_ik u_kj - l_i(k+1) u_(k+1)j, by
     // chunks from the one holding row k + 1 (whose new entry is u_(k+1)j: l_(k+1)(k+1) taken as
-    // zero); rows at or above a pivot take zero multipliers, and stay.
-    const Eigen::Index i0 = (k + 1) / kChunk * kChunk;
-    alignas(32) double l0[2 * kChunk], l1[2 * kChunk];  // the first two chunks' multipliers
-    for (Eigen::Index t = 0; t < 2 * kChunk; ++t) {
-      const Eigen::Index i = i0 + t;
-      l0[t] = i > k && i < ld ? ck[i] : 0.0;
-      l1[t] = i > k + 1 && i < ld ? c1[i] : 0.0;
+    // zero); in that chunk the rows at or above a pivot take zero multipliers, and stay.
+    const Eigen::Index i0 = (k + 1) / kChunk * kChunk;  // ld >= i0 + kChunk
+    alignas(32) double l0[kChunk], l1[kChunk];          // that chunk's multipliers
+    for (Eigen::Index t = 0; t < kChunk; ++t) {
+      l0[t] = i0 + t > k ? ck[i0 + t] : 0.0;
+      l1[t] = i0 + t > k + 1 ? c1[i0 + t] : 0.0;
     }
     for (Eigen::Index j = k + 2; j < n; ++j) {
       double* cj = a + j * ld;
       const double u0 = cj[k], u1 = cj[k + 1] - ck[k + 1] * u0;
-      Eigen::Index i = i0;
-      for (int t = 0; t < 2 && i < ld; ++t, i += kChunk)
-        Chunk(cj + i) = Chunk(cj + i) - u0 * ConstChunk(l0 + kChunk * t) - u1 * ConstChunk(l1 + kChunk * t);
-      for (; i < ld; i += kChunk)
+      Chunk(cj + i0) = Chunk(cj + i0) - u0 * ConstChunk(l0) - u1 * ConstChunk(l1);
+      for (Eigen::Index i = i0 + kChunk; i < ld; i += kChunk)
         Chunk(cj + i) = Chunk(cj + i) - u0 * ConstChunk(ck + i) - u1 * ConstChunk(c1 + i);
     }
   }
