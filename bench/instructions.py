@@ -15,8 +15,9 @@ addition; glibc's memset by ``rep stosb`` counts once per iteration of the strin
 zeroing large arrays weighs more than it costs). Compare a change by the count of one model
 before and after it (two builds), and confirm a large change with CPU time (bench/targets.py,
 bench/paper_bench.py). valgrind is an apt package (``apt-get install valgrind``); where it is
-missing the script says so and stops. Under callgrind a run takes about 50 times its CPU time:
-the default 5 s of every model take about five minutes.
+missing the script says so and stops. Under callgrind a run takes about 50 times its CPU time,
+and the scene's setup runs emulated too: the default 5 s of the six models took 30 minutes on
+session 31's machine (linear and nonlinear 15 of them).
 
 No assertions: speed is measured here, not tested.
 
