@@ -102,10 +102,10 @@ def test_dense_elastic_block_takes_the_dense_lu():
 
 def test_dense_lu_every_size_and_residue():
     # math/dense_lu takes two pivot columns at a time over columns padded to chunks of four rows:
-    # every size up to DenseLU::kUnblocked (odd and even counts of pivots, every residue of the
-    # rows modulo the chunk), with zero diagonals (a row exchange at every column), keeps the
-    # backward error |S x - r| / (|S| |x|) at round-off (Higham, Accuracy and Stability of
-    # Numerical Algorithms, 2002, Sec. 9.3).
+    # every size up to DenseLU::kUnblocked and one past it (odd and even counts of pivots, every
+    # residue of the rows modulo the chunk), with zero diagonals (a row exchange at every column),
+    # keeps the backward error |S x - r| / (|S| |x|) at round-off (Higham, Accuracy and Stability
+    # of Numerical Algorithms, 2002, Sec. 9.3).
     rng = np.random.default_rng(5)
     for m in range(3, 66):  # E, (m - 1) x (m - 1), half full or more: the dense path
         M = rng.normal(size=(m, m))
